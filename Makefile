@@ -1,0 +1,21 @@
+# kauri: the two commands a new user needs are `make demo` and `make test`.
+PYTHON ?= python3
+BUILD_DIR := $(shell $(PYTHON) -c "import sysconfig,sys; print('build/cp%d%d-cp%d%d-%s' % (sys.version_info[0], sys.version_info[1], sys.version_info[0], sys.version_info[1], sysconfig.get_platform().replace('-', '_').replace('.', '_')))")
+
+.PHONY: build demo test test-cpp test-python bench clean
+
+build:
+	./scripts/bootstrap
+
+demo: build
+	$(PYTHON) -m kauri render -o demo.exr
+
+test: build
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j2
+	$(PYTHON) -m pytest -q tests/python
+
+bench: build
+	$(PYTHON) bench/bench_demo.py
+
+clean:
+	rm -rf build demo.exr demo.png

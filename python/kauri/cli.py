@@ -1,0 +1,119 @@
+"""The ``kauri`` command line."""
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import os
+import sys
+import time
+
+DEMO_SPP = 256
+DEMO_RES = "512x512"
+
+
+def _parse_res(text: str):
+    try:
+        w, h = text.lower().split("x")
+        w, h = int(w), int(h)
+        if w <= 0 or h <= 0:
+            raise ValueError
+        return w, h
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected WIDTHxHEIGHT (e.g. 1280x720), got {text!r}") from None
+
+
+def _load_scene(path: str):
+    """A scene file for now is a Python file whose build() returns a kauri.Scene."""
+    from .scene import Scene
+    if not os.path.isfile(path):
+        raise SystemExit(f"kauri: error: {path}: no such file")
+    if not path.endswith(".py"):
+        raise SystemExit(f"kauri: error: {path}: unsupported scene format (expected a .py file with build())")
+    spec = importlib.util.spec_from_file_location("kauri_user_scene", path)
+    module = importlib.util.module_from_spec(spec)
+    try:
+        spec.loader.exec_module(module)
+    except Exception as e:  # report where the user's file failed
+        raise SystemExit(f"kauri: error: {path}: {type(e).__name__}: {e}") from None
+    if not hasattr(module, "build"):
+        raise SystemExit(f"kauri: error: {path}: defines no build() function returning a kauri.Scene")
+    scene = module.build()
+    if not isinstance(scene, Scene):
+        raise SystemExit(f"kauri: error: {path}: build() returned {type(scene).__name__}, expected kauri.Scene")
+    return scene
+
+
+def _cmd_render(args) -> int:
+    from . import demo, render
+    from .scene import SceneError
+    scene = _load_scene(args.scene) if args.scene else demo.build()
+    out = args.output
+    if not out.lower().endswith(".exr"):
+        print(f"kauri: error: -o {out}: the output must be an .exr file", file=sys.stderr)
+        return 2
+    w, h = args.res
+    print(f"kauri: rendering {args.scene or 'built-in demo scene'} at {w}x{h}, {args.spp} spp"
+          + (f", time limit {args.time_limit:g} s" if args.time_limit else ""), file=sys.stderr)
+    try:
+        result = render(scene, spp=args.spp, resolution=(w, h), seed=args.seed, threads=args.threads,
+                        time_limit=args.time_limit, max_depth=args.max_depth, clamp=args.clamp,
+                        sampler=args.sampler, progress=not args.quiet)
+    except (SceneError, ValueError) as e:
+        print(f"kauri: error: {e}", file=sys.stderr)
+        return 2
+    result.write_exr(out, scene_name=args.scene or "demo")
+    png = os.path.splitext(out)[0] + ".png"
+    if not args.no_preview:
+        result.write_png(png, exposure=args.exposure)
+    print(result.stats["summary"], file=sys.stderr)
+    print(f"kauri: wrote {out}" + ("" if args.no_preview else f" and {png}"), file=sys.stderr)
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="kauri", description="kauri: a spectral production path tracer.")
+    p.add_argument("--version", action="store_true", help="print the version and exit")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    r = sub.add_parser("render", help="render a scene to an EXR (and a PNG preview)",
+                       description="Render SCENE (a Python file whose build() returns a kauri.Scene) or, "
+                                   "without SCENE, the built-in demo scene. Writes a multi-channel EXR "
+                                   "(beauty RGBA, albedo, normal, depth) and an sRGB PNG preview next to it.")
+    r.add_argument("scene", nargs="?", metavar="SCENE", help="scene file (.py with build()); omit for the demo")
+    r.add_argument("-o", "--output", default="demo.exr", metavar="OUT.exr", help="output EXR (default: demo.exr)")
+    r.add_argument("--spp", type=int, default=DEMO_SPP, metavar="N", help=f"samples per pixel (default {DEMO_SPP})")
+    r.add_argument("--res", type=_parse_res, default=_parse_res(DEMO_RES), metavar="WxH",
+                   help=f"resolution (default {DEMO_RES})")
+    r.add_argument("--threads", type=int, default=0, metavar="N", help="worker threads (default: all cores)")
+    r.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
+    r.add_argument("--time-limit", type=float, default=0.0, metavar="T",
+                   help="stop after T seconds, at the end of a progressive pass (default: no limit)")
+    r.add_argument("--max-depth", type=int, default=16, metavar="D", help="maximum path depth (default 16)")
+    r.add_argument("--clamp", type=float, default=0.0, metavar="C",
+                   help="clamp indirect sample luminance to C (default 0 = off)")
+    r.add_argument("--sampler", choices=["sobol", "independent"], default="sobol",
+                   help="sample generator (default: Owen-scrambled Sobol')")
+    r.add_argument("--exposure", type=float, default=0.0, metavar="EV", help="preview exposure in stops")
+    r.add_argument("--no-preview", action="store_true", help="do not write the PNG preview")
+    r.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    return p
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.version:
+        from . import __version__
+        print(f"kauri {__version__}")
+        return 0
+    if args.command == "render":
+        if args.spp <= 0:
+            parser.error("--spp must be > 0")
+        if args.threads < 0:
+            parser.error("--threads must be >= 0")
+        return _cmd_render(args)
+    parser.print_help()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

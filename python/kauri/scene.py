@@ -1,0 +1,316 @@
+"""Building scenes in Python: materials, shapes, lights and cameras.
+
+Every constructor checks its keyword arguments: an unknown parameter, a wrong
+type or an out-of-range value raises an exception that names the object and the
+parameter, before anything reaches the renderer.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Optional, Sequence
+
+import numpy as np
+
+from . import _core
+
+
+class SceneError(ValueError):
+    """Invalid scene input (names the object and parameter)."""
+
+
+def _vec3(obj: str, param: str, value) -> tuple:
+    try:
+        arr = np.asarray(value, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise SceneError(f"{obj}: parameter '{param}': expected 3 numbers, got {value!r}") from None
+    if arr.size == 1:
+        arr = np.repeat(arr, 3)
+    if arr.size != 3:
+        raise SceneError(f"{obj}: parameter '{param}': expected 3 numbers, got {arr.size}")
+    if not np.all(np.isfinite(arr)):
+        raise SceneError(f"{obj}: parameter '{param}': must be finite, got {value!r}")
+    return tuple(float(x) for x in arr)
+
+
+def _number(obj: str, param: str, value, lo=-math.inf, hi=math.inf) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise SceneError(f"{obj}: parameter '{param}': expected a number, got {type(value).__name__}")
+    v = float(value)
+    if not math.isfinite(v) or v < lo or v > hi:
+        raise SceneError(f"{obj}: parameter '{param}': must be finite and in [{lo}, {hi}], got {value!r}")
+    return v
+
+
+def _check_keys(obj: str, given: dict, allowed: Sequence[str]) -> None:
+    unknown = sorted(set(given) - set(allowed))
+    if unknown:
+        raise SceneError(f"{obj}: unknown parameter(s) {', '.join(repr(u) for u in unknown)}; "
+                         f"allowed: {', '.join(allowed)}")
+
+
+# ---------------------------------------------------------------- materials
+
+class Material:
+    """Base class; a material is registered with a scene the first time it is used."""
+    kind = ""
+
+    def __init__(self, name: str, **params):
+        self.name = name or self.kind
+        self.params = params
+
+
+class Lambert(Material):
+    """Lambertian diffuse reflector (``lambert@1``). ``albedo``: RGB in the working space, in [0, 1]."""
+    kind = "lambert"
+
+    def __init__(self, albedo=(0.8, 0.8, 0.8), name: str = "", **extra):
+        _check_keys(f"material '{name or self.kind}'", extra, ["albedo", "name"])
+        obj = f"material '{name or self.kind}'"
+        a = _vec3(obj, "albedo", albedo)
+        if min(a) < 0 or max(a) > 1:
+            raise SceneError(f"{obj}: parameter 'albedo': components must lie in [0, 1], got {a}")
+        super().__init__(name, albedo=a)
+
+
+class Dielectric(Material):
+    """Smooth dielectric (``smooth_dielectric@1``): glass, water.
+
+    ``ior`` at 587.6 nm; ``abbe`` > 0 adds dispersion (Cauchy fit; e.g. 64 for BK7).
+    """
+    kind = "dielectric"
+
+    def __init__(self, ior: float = 1.5, abbe: float = 0.0, name: str = "", **extra):
+        obj = f"material '{name or self.kind}'"
+        _check_keys(obj, extra, ["ior", "abbe", "name"])
+        super().__init__(name, ior=_number(obj, "ior", ior, 1.0 / 4, 4),
+                         abbe=_number(obj, "abbe", abbe, 0, 1000))
+
+
+class Conductor(Material):
+    """Rough GGX conductor (``ggx_conductor@1``) with a spectral complex IOR.
+
+    Give ``metal`` (measured data: Au, Ag, Cu, Al, Cr, Fe, Ti) or RGB ``eta`` and ``k``.
+    ``roughness`` in [0, 1] (α = roughness²), ``anisotropy`` in [-1, 1].
+    """
+    kind = "conductor"
+
+    def __init__(self, metal: str = "Au", roughness: float = 0.3, anisotropy: float = 0.0,
+                 eta=None, k=None, name: str = "", **extra):
+        obj = f"material '{name or self.kind}'"
+        _check_keys(obj, extra, ["metal", "roughness", "anisotropy", "eta", "k", "name"])
+        if eta is not None or k is not None:
+            if eta is None or k is None:
+                raise SceneError(f"{obj}: parameters 'eta' and 'k' must be given together")
+            metal = ""
+            eta, k = _vec3(obj, "eta", eta), _vec3(obj, "k", k)
+        else:
+            if not isinstance(metal, str):
+                raise SceneError(f"{obj}: parameter 'metal': expected a name, got {type(metal).__name__}")
+            eta, k = (1.0, 1.0, 1.0), (0.0, 0.0, 0.0)
+        super().__init__(name, metal=metal, eta=eta, k=k,
+                         roughness=_number(obj, "roughness", roughness, 0, 1),
+                         anisotropy=_number(obj, "anisotropy", anisotropy, -1, 1))
+
+
+@dataclass
+class Emission:
+    """Diffuse emission: RGB ``color`` (working space) or blackbody ``temperature`` (K,
+    normalised to luminance 1), times ``intensity``. One-sided unless ``two_sided``."""
+    color: tuple = (1.0, 1.0, 1.0)
+    intensity: float = 1.0
+    temperature: float = 0.0
+    two_sided: bool = False
+
+    def resolved(self, obj: str) -> tuple:
+        c = _vec3(obj, "emission.color", self.color)
+        if min(c) < 0:
+            raise SceneError(f"{obj}: parameter 'emission.color': components must be >= 0")
+        return (c, _number(obj, "emission.intensity", self.intensity, 0),
+                _number(obj, "emission.temperature", self.temperature, 0), bool(self.two_sided))
+
+
+# ---------------------------------------------------------------- scene
+
+_NO_EMISSION = ((1.0, 1.0, 1.0), 0.0, 0.0, False)
+
+
+class Scene:
+    """A scene built in code. Coordinates are right-handed with +Y up.
+
+    >>> s = Scene()
+    >>> red = Lambert(albedo=(0.7, 0.1, 0.1))
+    >>> s.add_sphere(center=(0, 1, 0), radius=1, material=red)
+    >>> s.add_environment(color=(1, 1, 1))
+    >>> s.set_camera(eye=(0, 1, 5), target=(0, 1, 0), fov=40)
+    """
+
+    def __init__(self, color_space: str = "acescg"):
+        self._core = _core.Scene()
+        self._materials: dict[int, int] = {}
+        self._material_objs: list[Material] = []
+        self.color_space = color_space
+        self._core.set_color_space(color_space)
+        self._groups: dict[str, int] = {}
+        self.has_camera = False
+
+    # -- materials
+    def _material_id(self, obj: str, material: Optional[Material]) -> int:
+        if material is None:
+            return -1
+        if not isinstance(material, Material):
+            raise SceneError(f"{obj}: parameter 'material': expected a kauri material "
+                             f"(Lambert, Dielectric, Conductor), got {type(material).__name__}")
+        key = id(material)
+        if key not in self._materials:
+            p = material.params
+            if isinstance(material, Lambert):
+                mid = self._core.add_lambert(material.name, p["albedo"])
+            elif isinstance(material, Dielectric):
+                mid = self._core.add_dielectric(material.name, p["ior"], p["abbe"])
+            elif isinstance(material, Conductor):
+                mid = self._core.add_conductor(material.name, p["metal"], p["eta"], p["k"],
+                                               p["roughness"], p["anisotropy"])
+            else:
+                raise SceneError(f"{obj}: parameter 'material': unsupported material type {type(material).__name__}")
+            self._materials[key] = mid
+            self._material_objs.append(material)  # keep alive so id() stays unique
+        return self._materials[key]
+
+    def _group_id(self, obj: str, group: Optional[str]) -> int:
+        if group is None:
+            return 0
+        if group not in self._groups:
+            raise SceneError(f"{obj}: parameter 'group': unknown group {group!r}; create it with add_group()")
+        return self._groups[group]
+
+    @staticmethod
+    def _emission(obj: str, emission) -> tuple:
+        if emission is None:
+            return (False,) + _NO_EMISSION
+        if not isinstance(emission, Emission):
+            raise SceneError(f"{obj}: parameter 'emission': expected kauri.Emission, got {type(emission).__name__}")
+        return (True,) + emission.resolved(obj)
+
+    # -- geometry
+    def add_mesh(self, positions, indices, normals=None, uvs=None, material: Optional[Material] = None,
+                 emission: Optional[Emission] = None, name: str = "mesh", group: Optional[str] = None, **extra):
+        """Triangle or quad mesh from NumPy arrays: positions (n, 3), indices (m, 3) or (m, 4),
+        optional per-vertex normals (n, 3) and uvs (n, 2)."""
+        obj = f"mesh '{name}'"
+        _check_keys(obj, extra, [])
+        P = np.ascontiguousarray(positions, dtype=np.float32)
+        if P.ndim != 2 or P.shape[1] != 3 or P.shape[0] == 0:
+            raise SceneError(f"{obj}: parameter 'positions': expected an (n, 3) array, got shape {P.shape}")
+        I = np.asarray(indices)
+        if I.ndim != 2 or I.shape[1] not in (3, 4) or I.shape[0] == 0:
+            raise SceneError(f"{obj}: parameter 'indices': expected an (m, 3) or (m, 4) array, got shape {I.shape}")
+        if not np.issubdtype(I.dtype, np.integer):
+            raise SceneError(f"{obj}: parameter 'indices': expected integers, got {I.dtype}")
+        if I.min() < 0 or I.max() >= P.shape[0]:
+            bad = int(I.min()) if I.min() < 0 else int(I.max())
+            raise SceneError(f"{obj}: parameter 'indices': index {bad} is out of range "
+                             f"(the mesh has {P.shape[0]} vertices)")
+        N = None if normals is None else np.ascontiguousarray(normals, dtype=np.float32)
+        if N is not None and N.shape != P.shape:
+            raise SceneError(f"{obj}: parameter 'normals': expected shape {P.shape}, got {N.shape}")
+        UV = None if uvs is None else np.ascontiguousarray(uvs, dtype=np.float32)
+        if UV is not None and UV.shape != (P.shape[0], 2):
+            raise SceneError(f"{obj}: parameter 'uvs': expected shape {(P.shape[0], 2)}, got {UV.shape}")
+        mid = self._material_id(obj, material)
+        em = self._emission(obj, emission)
+        return self._core.add_mesh(self._group_id(obj, group), name, P, np.ascontiguousarray(I, dtype=np.uint32),
+                                   I.shape[1], N, UV, mid, *em)
+
+    def add_sphere(self, center=(0, 0, 0), radius: float = 1.0, material: Optional[Material] = None,
+                   emission: Optional[Emission] = None, name: str = "sphere", group: Optional[str] = None, **extra):
+        obj = f"sphere '{name}'"
+        _check_keys(obj, extra, [])
+        return self._core.add_sphere(self._group_id(obj, group), name, _vec3(obj, "center", center),
+                                     _number(obj, "radius", radius), self._material_id(obj, material),
+                                     *self._emission(obj, emission))
+
+    def add_disk(self, center=(0, 0, 0), normal=(0, 1, 0), radius: float = 1.0, material: Optional[Material] = None,
+                 emission: Optional[Emission] = None, name: str = "disk", group: Optional[str] = None, **extra):
+        obj = f"disk '{name}'"
+        _check_keys(obj, extra, [])
+        return self._core.add_disk(self._group_id(obj, group), name, _vec3(obj, "center", center),
+                                   _vec3(obj, "normal", normal), _number(obj, "radius", radius),
+                                   self._material_id(obj, material), *self._emission(obj, emission))
+
+    def add_group(self, name: str) -> str:
+        """A prototype for instancing: add shapes with ``group=name``, place it with add_instance()."""
+        if name in self._groups:
+            raise SceneError(f"group '{name}': a group of that name exists already")
+        self._groups[name] = self._core.add_group(name)
+        return name
+
+    def add_instance(self, group: str, transform, name: str = "instance", **extra):
+        """Places a group with a 3x4 or 4x4 object-to-world matrix."""
+        obj = f"instance '{name}'"
+        _check_keys(obj, extra, [])
+        if group not in self._groups:
+            raise SceneError(f"{obj}: parameter 'group': unknown group {group!r}")
+        M = np.ascontiguousarray(transform, dtype=np.float32)
+        return self._core.add_instance(name, self._groups[group], M)
+
+    # -- lights
+    def _light(self, kind, name, position=(0, 0, 0), direction=(0, -1, 0), color=(1, 1, 1), intensity=1.0,
+               temperature=0.0, cone_angle=30.0, cone_softness=5.0, angle=0.0, image=None, rotation=None):
+        obj = f"light '{name}'"
+        c = _vec3(obj, "color", color)
+        if min(c) < 0:
+            raise SceneError(f"{obj}: parameter 'color': components must be >= 0")
+        if image is not None:
+            image = np.ascontiguousarray(image, dtype=np.float32)
+            if image.ndim != 3 or image.shape[2] < 3:
+                raise SceneError(f"{obj}: parameter 'image': expected a (height, width, 3) array, got {image.shape}")
+            image = np.ascontiguousarray(image[:, :, :3])
+        if rotation is not None:
+            rotation = np.ascontiguousarray(rotation, dtype=np.float32)
+        return self._core.add_light(kind, name, _vec3(obj, "position", position), _vec3(obj, "direction", direction),
+                                    c, _number(obj, "intensity", intensity, 0), _number(obj, "temperature", temperature, 0),
+                                    _number(obj, "cone_angle", cone_angle), _number(obj, "cone_softness", cone_softness),
+                                    _number(obj, "angle", angle), image, rotation)
+
+    def add_point_light(self, position, color=(1, 1, 1), intensity=1.0, temperature=0.0, name="point", **extra):
+        """Point light; ``intensity`` scales radiant intensity (W/sr-like units)."""
+        _check_keys(f"light '{name}'", extra, [])
+        return self._light("point", name, position=position, color=color, intensity=intensity, temperature=temperature)
+
+    def add_spot_light(self, position, direction, cone_angle=30.0, cone_softness=5.0, color=(1, 1, 1),
+                       intensity=1.0, temperature=0.0, name="spot", **extra):
+        """Spot light: half-angle ``cone_angle`` (degrees), smooth falloff over ``cone_softness``."""
+        _check_keys(f"light '{name}'", extra, [])
+        return self._light("spot", name, position=position, direction=direction, cone_angle=cone_angle,
+                           cone_softness=cone_softness, color=color, intensity=intensity, temperature=temperature)
+
+    def add_distant_light(self, direction, angle=0.0, color=(1, 1, 1), intensity=1.0, temperature=0.0,
+                          name="distant", **extra):
+        """Directional light travelling along ``direction``; ``angle`` is its angular diameter in
+        degrees (0.53 for the sun). ``intensity`` is the irradiance at normal incidence."""
+        _check_keys(f"light '{name}'", extra, [])
+        return self._light("distant", name, direction=direction, angle=angle, color=color, intensity=intensity,
+                           temperature=temperature)
+
+    def add_environment(self, color=(1, 1, 1), image=None, intensity=1.0, rotation=None, name="environment", **extra):
+        """Environment light: constant ``color`` or a lat-long ``image`` (array or file path),
+        importance-sampled. +Y is up; u = atan2(x, -z) / 2π, v = acos(y) / π."""
+        _check_keys(f"light '{name}'", extra, [])
+        if isinstance(image, str):
+            image = _core.read_rgb_image(image)
+        return self._light("environment", name, color=color, intensity=intensity, image=image, rotation=rotation)
+
+    # -- camera
+    def set_camera(self, eye=(0, 0, 5), target=(0, 0, 0), up=(0, 1, 0), fov=40.0, fov_axis="x",
+                   kind="perspective", width=2.0, aperture_radius=0.0, focus_distance=0.0, **extra):
+        """Perspective (``fov`` in degrees along ``fov_axis``; thin lens with ``aperture_radius``,
+        focused at ``focus_distance``, default the target) or orthographic (``width`` world units)."""
+        _check_keys("camera", extra, [])
+        if kind not in ("perspective", "orthographic"):
+            raise SceneError(f"camera: parameter 'kind': expected 'perspective' or 'orthographic', got {kind!r}")
+        self._core.set_camera(kind, _vec3("camera", "eye", eye), _vec3("camera", "target", target),
+                              _vec3("camera", "up", up), _number("camera", "fov", fov), str(fov_axis),
+                              _number("camera", "width", width), _number("camera", "aperture_radius", aperture_radius),
+                              _number("camera", "focus_distance", focus_distance))
+        self.has_camera = True

@@ -1,0 +1,113 @@
+#include "kauri/accel/embree_accel.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace kauri {
+
+namespace {
+
+void check(RTCDevice d, const char* what) {
+  RTCError e = rtcGetDeviceError(d);
+  if (e != RTC_ERROR_NONE)
+    throw std::runtime_error(std::string("Embree error ") + std::to_string(int(e)) + " while " + what);
+}
+
+RTCGeometry make_geometry(RTCDevice dev, const ShapeView& s) {
+  switch (s.type) {
+    case ShapeType::Mesh: {
+      RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+      // Shared buffers: Embree reads our arrays in place; the host scene keeps
+      // one padding vertex because Embree may load 16 bytes from the last one.
+      rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, s.mesh.p, 0, sizeof(Point3),
+                                 s.mesh.n_vertices);
+      rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, s.mesh.index, 0,
+                                 3 * sizeof(uint32_t), s.mesh.n_triangles);
+      return g;
+    }
+    case ShapeType::Sphere: {
+      RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 16, 1));
+      v[0] = s.sphere.center.x; v[1] = s.sphere.center.y; v[2] = s.sphere.center.z; v[3] = s.sphere.radius;
+      return g;
+    }
+    case ShapeType::Disk: {
+      RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 16, 1));
+      v[0] = s.disk.center.x; v[1] = s.disk.center.y; v[2] = s.disk.center.z; v[3] = s.disk.radius;
+      auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 12, 1));
+      n[0] = s.disk.normal.x; n[1] = s.disk.normal.y; n[2] = s.disk.normal.z;
+      return g;
+    }
+  }
+  return nullptr;
+}
+
+void extend_bounds(const ShapeView& s, const Transform* xf, Bounds3* b) {
+  auto add = [&](Point3 p) { b->extend(xf ? xf->point(p) : p); };
+  auto add_box = [&](Point3 c, Float r) {
+    for (int k = 0; k < 8; ++k) add(c + Vec3{k & 1 ? r : -r, k & 2 ? r : -r, k & 4 ? r : -r});
+  };
+  switch (s.type) {
+    case ShapeType::Mesh:
+      for (uint32_t i = 0; i < s.mesh.n_vertices; ++i) add(s.mesh.p[i]);
+      break;
+    case ShapeType::Sphere: add_box(s.sphere.center, s.sphere.radius); break;
+    case ShapeType::Disk: add_box(s.disk.center, s.disk.radius); break;
+  }
+}
+
+}  // namespace
+
+EmbreeAccel::EmbreeAccel() {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw std::runtime_error("could not create an Embree device");
+}
+
+EmbreeAccel::~EmbreeAccel() {
+  for (RTCScene s : prototypes_) rtcReleaseScene(s);
+  if (root_) rtcReleaseScene(root_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+RTCScene EmbreeAccel::build_group(const std::vector<ShapeView>& shapes) {
+  RTCScene scene = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    RTCGeometry g = make_geometry(device_, shapes[i]);
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(scene, g, unsigned(i));
+    rtcReleaseGeometry(g);
+  }
+  check(device_, "adding geometry");
+  return scene;
+}
+
+void EmbreeAccel::build(const std::vector<std::vector<ShapeView>>& groups, const std::vector<int>& instance_groups,
+                        const std::vector<Transform>& instance_xf) {
+  root_ = build_group(groups.at(0));
+  for (const ShapeView& s : groups[0]) extend_bounds(s, nullptr, &bounds_);
+  prototypes_.assign(groups.size(), nullptr);
+  for (size_t g = 1; g < groups.size(); ++g) {
+    prototypes_[g] = build_group(groups[g]);
+    rtcCommitScene(prototypes_[g]);
+  }
+  const unsigned first_instance_id = unsigned(groups[0].size());
+  for (size_t k = 0; k < instance_groups.size(); ++k) {
+    int grp = instance_groups[k];
+    RTCGeometry inst = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(inst, prototypes_.at(size_t(grp)));
+    float m[12];  // column-major 3x4
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 3; ++r) m[c * 3 + r] = instance_xf[k].m[r][c];
+    rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
+    rtcCommitGeometry(inst);
+    rtcAttachGeometryByID(root_, inst, first_instance_id + unsigned(k));
+    rtcReleaseGeometry(inst);
+    for (const ShapeView& s : groups[size_t(grp)]) extend_bounds(s, &instance_xf[k], &bounds_);
+  }
+  rtcCommitScene(root_);
+  check(device_, "building the acceleration structure");
+}
+
+}  // namespace kauri

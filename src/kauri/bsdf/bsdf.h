@@ -1,0 +1,110 @@
+// BSDF at a shading point: a weighted sum of lobes in a shading frame.
+// The weights are what a material's layer program yields for this point and ω_o;
+// sampling picks one lobe by weight × albedo and combines the densities of all
+// lobes (one-sample MIS, Veach 1997 §9.2.4), so stacks of many lobes stay efficient.
+#pragma once
+
+#include "kauri/bsdf/lobe.h"
+
+namespace kauri {
+
+inline constexpr int kMaxLobes = 8;
+
+struct BSDF {
+  Frame frame;      // shading frame, z = shading normal
+  Normal3 ng;       // geometric normal (world)
+  int n_lobes = 0;
+  Lobe lobes[kMaxLobes];
+  Float weight[kMaxLobes];
+  Float select_prob[kMaxLobes];  // set by prepare()
+
+  KAURI_HOST_DEVICE void add(const Lobe& l, Float w) {
+    if (n_lobes < kMaxLobes && w > 0) {
+      lobes[n_lobes] = l;
+      weight[n_lobes] = w;
+      ++n_lobes;
+    }
+  }
+  /// Lobe selection probabilities ∝ weight × average reflection+transmission albedo.
+  KAURI_HOST_DEVICE void prepare(Vec3 wo_world) {
+    Vec3 wo = frame.to_local(wo_world);
+    Float total = 0;
+    for (int i = 0; i < n_lobes; ++i) {
+      Float a = (lobes[i].albedo_r(wo) + lobes[i].albedo_t(wo)).average();
+      select_prob[i] = weight[i] * fmax_(a, 1e-3f);
+      total += select_prob[i];
+    }
+    for (int i = 0; i < n_lobes; ++i) select_prob[i] = total > 0 ? select_prob[i] / total : 0;
+  }
+
+  KAURI_HOST_DEVICE bool has_non_specular() const {
+    for (int i = 0; i < n_lobes; ++i)
+      if (lobes[i].scattering() != Scattering::Specular) return true;
+    return false;
+  }
+
+  KAURI_HOST_DEVICE SampledSpectrum eval(Vec3 wo_world, Vec3 wi_world, TransportMode mode) const {
+    Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
+    if (wo.z == 0) return SampledSpectrum(0);
+    SampledSpectrum f(0);
+    for (int i = 0; i < n_lobes; ++i) f += lobes[i].eval(wo, wi, mode) * weight[i];
+    return f * shading_normal_correction(wo_world, wi_world, wi);
+  }
+  KAURI_HOST_DEVICE Float pdf(Vec3 wo_world, Vec3 wi_world) const {
+    Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
+    Float p = 0;
+    for (int i = 0; i < n_lobes; ++i) p += select_prob[i] * lobes[i].pdf(wo, wi);
+    return p;
+  }
+
+  /// `uc` picks the lobe (and is reused, rescaled, for the lobe's own discrete choice).
+  KAURI_HOST_DEVICE BSDFSample sample(Vec3 wo_world, Float uc, Vec2 u, SampledWavelengths& lambda,
+                                      TransportMode mode) const {
+    BSDFSample none;
+    if (n_lobes == 0) return none;
+    Vec3 wo = frame.to_local(wo_world);
+    if (wo.z == 0) return none;
+    int chosen = n_lobes - 1;
+    Float cdf = 0;
+    for (int i = 0; i < n_lobes; ++i) {
+      if (uc < cdf + select_prob[i] || i == n_lobes - 1) {
+        chosen = i;
+        uc = select_prob[i] > 0 ? fmin_((uc - cdf) / select_prob[i], kOneMinusEpsilon) : Float(0);
+        break;
+      }
+      cdf += select_prob[i];
+    }
+    if (select_prob[chosen] <= 0) return none;
+    BSDFSample s = lobes[chosen].sample(wo, uc, u, lambda, mode);
+    if (!s.valid() || s.wi.z == 0) return none;
+    Vec3 wi_world = frame.to_world(s.wi);
+    if (s.is_specular()) {
+      // A delta lobe cannot be combined with the others: the estimator is its own.
+      s.f *= weight[chosen];
+      s.pdf *= select_prob[chosen];
+    } else {
+      s.f = SampledSpectrum(0);
+      s.pdf = 0;
+      for (int i = 0; i < n_lobes; ++i) {
+        if (lobes[i].scattering() == Scattering::Specular) continue;
+        s.f += lobes[i].eval(wo, s.wi, mode) * weight[i];
+        s.pdf += select_prob[i] * lobes[i].pdf(wo, s.wi);
+      }
+    }
+    s.f *= shading_normal_correction(wo_world, wi_world, s.wi);
+    s.wi = wi_world;
+    return s;
+  }
+
+  /// Light leaks where shading and geometric normals disagree: a direction on
+  /// the wrong side of the true surface gets no reflection/transmission it
+  /// cannot physically have.
+  KAURI_HOST_DEVICE Float shading_normal_correction(Vec3 wo_world, Vec3 wi_world, Vec3 wi_local) const {
+    Vec3 wo_local = frame.to_local(wo_world);
+    bool geo_reflect = dot(wo_world, ng) * dot(wi_world, ng) > 0;
+    bool shading_reflect = wo_local.z * wi_local.z > 0;
+    return geo_reflect == shading_reflect ? Float(1) : Float(0);
+  }
+};
+
+}  // namespace kauri

@@ -1,0 +1,70 @@
+// Lobe: the closed set of BSDF lobes as a tagged union with switch dispatch
+// (no virtual calls, so the same code compiles for CUDA). New lobes add an enum
+// value, a union member and one line per dispatch case.
+#pragma once
+
+#include "kauri/bsdf/conductor.h"
+#include "kauri/bsdf/dielectric.h"
+#include "kauri/bsdf/lambert.h"
+
+namespace kauri {
+
+enum class LobeType : uint8_t { Lambert, SmoothDielectric, GGXConductor };
+
+struct Lobe {
+  LobeType type = LobeType::Lambert;
+  union {
+    LambertLobe lambert;
+    SmoothDielectricLobe dielectric;
+    GGXConductorLobe conductor;
+  };
+
+  KAURI_HOST_DEVICE Lobe() : lambert() {}
+  KAURI_HOST_DEVICE Lobe(const LambertLobe& l) : type(LobeType::Lambert), lambert(l) {}
+  KAURI_HOST_DEVICE Lobe(const SmoothDielectricLobe& l) : type(LobeType::SmoothDielectric), dielectric(l) {}
+  KAURI_HOST_DEVICE Lobe(const GGXConductorLobe& l) : type(LobeType::GGXConductor), conductor(l) {}
+
+  /// Calls f(concrete_lobe) for the active member.
+  template <class F>
+  KAURI_HOST_DEVICE auto dispatch(F&& f) const {
+    switch (type) {
+      case LobeType::SmoothDielectric: return f(dielectric);
+      case LobeType::GGXConductor: return f(conductor);
+      case LobeType::Lambert:
+      default: return f(lambert);
+    }
+  }
+
+  KAURI_HOST_DEVICE SampledSpectrum eval(Vec3 wo, Vec3 wi, TransportMode m) const {
+    return dispatch([&](const auto& l) { return l.eval(wo, wi, m); });
+  }
+  KAURI_HOST_DEVICE Float pdf(Vec3 wo, Vec3 wi) const {
+    return dispatch([&](const auto& l) { return l.pdf(wo, wi); });
+  }
+  KAURI_HOST_DEVICE BSDFSample sample(Vec3 wo, Float uc, Vec2 u, SampledWavelengths& lambda, TransportMode m) const {
+    return dispatch([&](const auto& l) { return l.sample(wo, uc, u, lambda, m); });
+  }
+  KAURI_HOST_DEVICE SampledSpectrum albedo_r(Vec3 wo) const {
+    return dispatch([&](const auto& l) { return l.albedo_r(wo); });
+  }
+  KAURI_HOST_DEVICE SampledSpectrum albedo_t(Vec3 wo) const {
+    return dispatch([&](const auto& l) { return l.albedo_t(wo); });
+  }
+  KAURI_HOST_DEVICE Float ior(int i) const { return dispatch([&](const auto& l) { return l.ior(i); }); }
+  KAURI_HOST_DEVICE Float roughness() const { return dispatch([&](const auto& l) { return l.roughness(); }); }
+  KAURI_HOST_DEVICE Vec3 mean_direction(Vec3 wo) const {
+    return dispatch([&](const auto& l) { return l.mean_direction(wo); });
+  }
+  KAURI_HOST_DEVICE LobeClass lobe_class() const { return dispatch([](const auto& l) { return l.kClass; }); }
+  KAURI_HOST_DEVICE Scattering scattering() const {
+    switch (type) {
+      case LobeType::GGXConductor: return conductor.scattering();
+      case LobeType::SmoothDielectric: return SmoothDielectricLobe::kScattering;
+      case LobeType::Lambert:
+      default: return LambertLobe::kScattering;
+    }
+  }
+  KAURI_HOST_DEVICE const char* name() const { return dispatch([](const auto& l) { return l.kName; }); }
+};
+
+}  // namespace kauri

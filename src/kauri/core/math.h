@@ -1,0 +1,169 @@
+// Small-vector math for render-time code: plain structs, inline functions.
+#pragma once
+
+#include <cmath>
+#include <cstring>
+
+#include "kauri/core/platform.h"
+
+namespace kauri {
+
+KAURI_HOST_DEVICE inline Float sqr(Float x) { return x * x; }
+KAURI_HOST_DEVICE inline Float clamp(Float x, Float lo, Float hi) { return x < lo ? lo : (x > hi ? hi : x); }
+KAURI_HOST_DEVICE inline Float lerp(Float t, Float a, Float b) { return (1 - t) * a + t * b; }
+KAURI_HOST_DEVICE inline Float safe_sqrt(Float x) { return std::sqrt(x > 0 ? x : Float(0)); }
+KAURI_HOST_DEVICE inline Float safe_acos(Float x) { return std::acos(clamp(x, -1, 1)); }
+KAURI_HOST_DEVICE inline Float safe_asin(Float x) { return std::asin(clamp(x, -1, 1)); }
+KAURI_HOST_DEVICE inline Float fmin_(Float a, Float b) { return a < b ? a : b; }
+KAURI_HOST_DEVICE inline Float fmax_(Float a, Float b) { return a > b ? a : b; }
+KAURI_HOST_DEVICE inline bool is_finite(Float x) { return std::isfinite(x); }
+
+KAURI_HOST_DEVICE inline uint32_t float_as_bits(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+KAURI_HOST_DEVICE inline float bits_as_float(uint32_t u) {
+  float f;
+  std::memcpy(&f, &u, sizeof f);
+  return f;
+}
+
+struct Vec2 {
+  Float x = 0, y = 0;
+  KAURI_HOST_DEVICE Float operator[](int i) const { return i == 0 ? x : y; }
+};
+KAURI_HOST_DEVICE inline Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
+KAURI_HOST_DEVICE inline Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }
+KAURI_HOST_DEVICE inline Vec2 operator*(Vec2 a, Float s) { return {a.x * s, a.y * s}; }
+KAURI_HOST_DEVICE inline Vec2 operator*(Float s, Vec2 a) { return {a.x * s, a.y * s}; }
+
+struct Vec3 {
+  Float x = 0, y = 0, z = 0;
+  KAURI_HOST_DEVICE Float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+  KAURI_HOST_DEVICE Float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
+  KAURI_HOST_DEVICE Vec3& operator+=(Vec3 b) { x += b.x; y += b.y; z += b.z; return *this; }
+  KAURI_HOST_DEVICE Vec3& operator*=(Float s) { x *= s; y *= s; z *= s; return *this; }
+};
+/// Points and normals share the vector type; the names document intent.
+using Point3 = Vec3;
+using Normal3 = Vec3;
+
+KAURI_HOST_DEVICE inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+KAURI_HOST_DEVICE inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+KAURI_HOST_DEVICE inline Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
+KAURI_HOST_DEVICE inline Vec3 operator*(Vec3 a, Float s) { return {a.x * s, a.y * s, a.z * s}; }
+KAURI_HOST_DEVICE inline Vec3 operator*(Float s, Vec3 a) { return {a.x * s, a.y * s, a.z * s}; }
+KAURI_HOST_DEVICE inline Vec3 operator/(Vec3 a, Float s) { Float r = 1 / s; return a * r; }
+KAURI_HOST_DEVICE inline Vec3 mul(Vec3 a, Vec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+KAURI_HOST_DEVICE inline Float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+KAURI_HOST_DEVICE inline Float absdot(Vec3 a, Vec3 b) { return std::fabs(dot(a, b)); }
+KAURI_HOST_DEVICE inline Vec3 cross(Vec3 a, Vec3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+KAURI_HOST_DEVICE inline Float length_squared(Vec3 a) { return dot(a, a); }
+KAURI_HOST_DEVICE inline Float length(Vec3 a) { return std::sqrt(dot(a, a)); }
+KAURI_HOST_DEVICE inline Vec3 normalize(Vec3 a) { return a / length(a); }
+KAURI_HOST_DEVICE inline Float distance(Point3 a, Point3 b) { return length(a - b); }
+KAURI_HOST_DEVICE inline Vec3 vmin(Vec3 a, Vec3 b) { return {fmin_(a.x, b.x), fmin_(a.y, b.y), fmin_(a.z, b.z)}; }
+KAURI_HOST_DEVICE inline Vec3 vmax(Vec3 a, Vec3 b) { return {fmax_(a.x, b.x), fmax_(a.y, b.y), fmax_(a.z, b.z)}; }
+KAURI_HOST_DEVICE inline Float max_component(Vec3 a) { return fmax_(a.x, fmax_(a.y, a.z)); }
+KAURI_HOST_DEVICE inline bool is_finite(Vec3 a) { return is_finite(a.x) && is_finite(a.y) && is_finite(a.z); }
+/// Flip `n` so it lies in the hemisphere of `v`.
+KAURI_HOST_DEVICE inline Vec3 face_forward(Vec3 n, Vec3 v) { return dot(n, v) < 0 ? -n : n; }
+
+/// Spherical direction helpers (z is up, as in the local shading frame).
+KAURI_HOST_DEVICE inline Float cos_theta(Vec3 w) { return w.z; }
+KAURI_HOST_DEVICE inline Float abs_cos_theta(Vec3 w) { return std::fabs(w.z); }
+KAURI_HOST_DEVICE inline Float cos2_theta(Vec3 w) { return w.z * w.z; }
+KAURI_HOST_DEVICE inline Float sin2_theta(Vec3 w) { return fmax_(0, 1 - cos2_theta(w)); }
+KAURI_HOST_DEVICE inline Float tan2_theta(Vec3 w) { return sin2_theta(w) / cos2_theta(w); }
+KAURI_HOST_DEVICE inline bool same_hemisphere(Vec3 a, Vec3 b) { return a.z * b.z > 0; }
+KAURI_HOST_DEVICE inline Vec3 reflect_z(Vec3 w) { return {-w.x, -w.y, w.z}; }
+KAURI_HOST_DEVICE inline Vec3 reflect(Vec3 wo, Vec3 n) { return -wo + 2 * dot(wo, n) * n; }
+
+/// Branchless orthonormal basis around unit `n` (Duff et al. 2017, JCGT 6(1)).
+KAURI_HOST_DEVICE inline void coordinate_system(Vec3 n, Vec3* s, Vec3* t) {
+  Float sign = std::copysign(Float(1), n.z);
+  Float a = -1 / (sign + n.z);
+  Float b = n.x * n.y * a;
+  *s = {1 + sign * n.x * n.x * a, sign * b, -sign * n.x};
+  *t = {b, sign + n.y * n.y * a, -n.y};
+}
+
+/// Orthonormal frame; `z` is the normal of a shading frame.
+struct Frame {
+  Vec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  KAURI_HOST_DEVICE static Frame from_z(Vec3 n) {
+    Frame f;
+    f.z = n;
+    coordinate_system(n, &f.x, &f.y);
+    return f;
+  }
+  /// Frame with normal `n` and first tangent as close as possible to `dpdu`.
+  KAURI_HOST_DEVICE static Frame from_zx(Vec3 n, Vec3 dpdu) {
+    Vec3 t = dpdu - n * dot(n, dpdu);
+    Float l2 = length_squared(t);
+    if (!(l2 > 1e-12f)) return from_z(n);
+    Frame f;
+    f.z = n;
+    f.x = t / std::sqrt(l2);
+    f.y = cross(n, f.x);
+    return f;
+  }
+  KAURI_HOST_DEVICE Vec3 to_local(Vec3 v) const { return {dot(v, x), dot(v, y), dot(v, z)}; }
+  KAURI_HOST_DEVICE Vec3 to_world(Vec3 v) const { return x * v.x + y * v.y + z * v.z; }
+};
+
+struct Ray {
+  Point3 o;
+  Vec3 d;
+  Float tmax = kInfinity;
+  KAURI_HOST_DEVICE Point3 at(Float t) const { return o + d * t; }
+};
+
+struct Bounds3 {
+  Point3 lo{kInfinity, kInfinity, kInfinity};
+  Point3 hi{-kInfinity, -kInfinity, -kInfinity};
+  KAURI_HOST_DEVICE void extend(Point3 p) { lo = vmin(lo, p); hi = vmax(hi, p); }
+  KAURI_HOST_DEVICE void extend(const Bounds3& b) { lo = vmin(lo, b.lo); hi = vmax(hi, b.hi); }
+  KAURI_HOST_DEVICE bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
+  KAURI_HOST_DEVICE Point3 center() const { return (lo + hi) * Float(0.5); }
+  KAURI_HOST_DEVICE Vec3 diagonal() const { return hi - lo; }
+  /// Centre and radius of a sphere enclosing the box.
+  KAURI_HOST_DEVICE void bounding_sphere(Point3* c, Float* r) const {
+    *c = center();
+    *r = empty() ? Float(0) : distance(*c, hi);
+  }
+};
+
+/// Affine transform stored as a 3x4 matrix plus its inverse.
+struct Transform {
+  Float m[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+  Float inv[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+
+  KAURI_HOST_DEVICE Point3 point(Point3 p) const { return apply(m, p, 1); }
+  KAURI_HOST_DEVICE Vec3 vector(Vec3 v) const { return apply(m, v, 0); }
+  /// Normals transform with the inverse transpose.
+  KAURI_HOST_DEVICE Normal3 normal(Normal3 n) const {
+    return {inv[0][0] * n.x + inv[1][0] * n.y + inv[2][0] * n.z,
+            inv[0][1] * n.x + inv[1][1] * n.y + inv[2][1] * n.z,
+            inv[0][2] * n.x + inv[1][2] * n.y + inv[2][2] * n.z};
+  }
+  KAURI_HOST_DEVICE Point3 inverse_point(Point3 p) const { return apply(inv, p, 1); }
+  KAURI_HOST_DEVICE Vec3 inverse_vector(Vec3 v) const { return apply(inv, v, 0); }
+
+  KAURI_HOST_DEVICE static Vec3 apply(const Float a[3][4], Vec3 v, Float w) {
+    return {a[0][0] * v.x + a[0][1] * v.y + a[0][2] * v.z + a[0][3] * w,
+            a[1][0] * v.x + a[1][1] * v.y + a[1][2] * v.z + a[1][3] * w,
+            a[2][0] * v.x + a[2][1] * v.y + a[2][2] * v.z + a[2][3] * w};
+  }
+};
+
+// Host-only constructors (they can fail, so they live outside device code).
+/// Builds a Transform from a row-major 3x4 (or the top of a 4x4) matrix; returns false if singular.
+bool make_transform(const double rows[3][4], Transform* out);
+Transform look_at(Point3 eye, Point3 target, Vec3 up);  // camera-to-world
+Transform compose(const Transform& a, const Transform& b);  // a after b
+
+}  // namespace kauri

@@ -1,0 +1,139 @@
+// Device views of scene geometry and the surface record computed at a hit.
+// Embree finds the hit; everything else (position, normals, uv) is recomputed
+// here from our own data so CPU and a future GPU backend agree bit for bit.
+#pragma once
+
+#include "kauri/core/math.h"
+
+namespace kauri {
+
+enum class ShapeType : uint8_t { Mesh, Sphere, Disk };
+
+struct MeshView {
+  const Point3* p = nullptr;
+  const Normal3* n = nullptr;   // optional per-vertex shading normals
+  const Vec2* uv = nullptr;     // optional per-vertex uvs
+  const uint32_t* index = nullptr;  // 3 per triangle
+  uint32_t n_triangles = 0;
+  uint32_t n_vertices = 0;
+};
+struct SphereShape {
+  Point3 center;
+  Float radius = 1;
+};
+struct DiskShape {
+  Point3 center;
+  Normal3 normal{0, 0, 1};
+  Float radius = 1;
+};
+
+/// One shape of a group (the root scene or an instanced prototype).
+struct ShapeView {
+  ShapeType type = ShapeType::Mesh;
+  int material = -1;       // index into the material table; -1 = black (pure emitter)
+  int first_light = -1;    // for root shapes: first light of this emitter, else -1
+  MeshView mesh;
+  SphereShape sphere;
+  DiskShape disk;
+};
+
+/// Where a ray hit, in the form Embree reports it.
+struct HitRecord {
+  Float t = kInfinity;
+  Float u = 0, v = 0;
+  uint32_t geom = ~0u, prim = ~0u, inst = ~0u;
+  KAURI_HOST_DEVICE bool hit() const { return geom != ~0u; }
+};
+
+/// Local differential geometry at a hit, in world space.
+struct SurfaceHit {
+  Point3 p;
+  Normal3 ng;       // geometric normal, unit, as authored (not face-forwarded)
+  Normal3 ns;       // shading normal, unit, on the side of ng
+  Vec3 dpdu;
+  Vec2 uv;
+  Float t = 0;
+  int material = -1;
+  int light = -1;   // index of the emitter hit, or -1
+};
+
+KAURI_HOST_DEVICE inline Vec2 sphere_uv(Vec3 n_local) {
+  Float phi = std::atan2(n_local.y, n_local.x);
+  if (phi < 0) phi += 2 * kPi;
+  return {phi * kInv2Pi, safe_acos(n_local.z) * kInvPi};
+}
+
+/// Fills `s` (in the shape's object space) for a hit on triangle `prim` at barycentrics (u, v).
+KAURI_HOST_DEVICE inline void triangle_hit(const MeshView& m, uint32_t prim, Float u, Float v, SurfaceHit* s) {
+  const uint32_t* i = m.index + 3 * prim;
+  Point3 p0 = m.p[i[0]], p1 = m.p[i[1]], p2 = m.p[i[2]];
+  Float w = 1 - u - v;
+  s->p = p0 * w + p1 * u + p2 * v;
+  Vec3 e1 = p1 - p0, e2 = p2 - p0;
+  s->ng = normalize(cross(e1, e2));
+  Vec2 uv0{0, 0}, uv1{1, 0}, uv2{1, 1};
+  if (m.uv) { uv0 = m.uv[i[0]]; uv1 = m.uv[i[1]]; uv2 = m.uv[i[2]]; }
+  s->uv = uv0 * w + uv1 * u + uv2 * v;
+  // ∂p/∂u from the uv parameterisation (pbrt-v4 §6.5.3 derivation).
+  Vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
+  Float det = d1.x * d2.y - d1.y * d2.x;
+  s->dpdu = std::fabs(det) > 1e-12f ? (e1 * d2.y - e2 * d1.y) / det : e1;
+  s->ns = s->ng;
+  if (m.n) {
+    Normal3 n = m.n[i[0]] * w + m.n[i[1]] * u + m.n[i[2]] * v;
+    if (length_squared(n) > 0) s->ns = face_forward(normalize(n), s->ng);
+  }
+}
+
+KAURI_HOST_DEVICE inline void sphere_hit(const SphereShape& sp, const Ray& r, Float t, SurfaceHit* s) {
+  Point3 p = r.at(t);
+  Vec3 n = normalize(p - sp.center);
+  s->p = sp.center + n * sp.radius;  // re-project: the hit point lies on the sphere
+  s->ng = s->ns = n;
+  s->uv = sphere_uv(n);
+  s->dpdu = Vec3{-n.y, n.x, 0};
+  if (length_squared(s->dpdu) == 0) s->dpdu = {1, 0, 0};
+}
+
+KAURI_HOST_DEVICE inline void disk_hit(const DiskShape& d, const Ray& r, Float t, SurfaceHit* s) {
+  Point3 p = r.at(t);
+  Vec3 off = p - d.center;
+  s->p = p - d.normal * dot(off, d.normal);  // snap onto the disk plane
+  s->ng = s->ns = d.normal;
+  Frame f = Frame::from_z(d.normal);
+  Vec3 l = f.to_local(off);
+  Float rr = std::sqrt(l.x * l.x + l.y * l.y) / d.radius;
+  Float phi = std::atan2(l.y, l.x);
+  if (phi < 0) phi += 2 * kPi;
+  s->uv = {phi * kInv2Pi, rr};
+  s->dpdu = f.x;
+}
+
+/// Offsets a ray origin off a surface along the geometric normal, scaled to the
+/// float spacing of the position (Wächter & Binder 2019, "A Fast and Robust
+/// Method for Avoiding Self-Intersection", Ray Tracing Gems ch. 6).
+KAURI_HOST_DEVICE inline Point3 offset_ray_origin(Point3 p, Normal3 n) {
+  constexpr Float kOrigin = 1.0f / 32.0f, kFloatScale = 1.0f / 65536.0f, kIntScale = 256.0f;
+  Point3 r;
+  for (int a = 0; a < 3; ++a) {
+    int32_t of_i = int32_t(kIntScale * n[a]);
+    float pi = bits_as_float(uint32_t(int32_t(float_as_bits(p[a])) + (p[a] < 0 ? -of_i : of_i)));
+    r[a] = std::fabs(p[a]) < kOrigin ? p[a] + kFloatScale * n[a] : pi;
+  }
+  return r;
+}
+
+/// Spawns a ray leaving `p` in direction `d`, offset to the side `d` points to.
+KAURI_HOST_DEVICE inline Ray spawn_ray(Point3 p, Normal3 ng, Vec3 d) {
+  Normal3 n = dot(d, ng) < 0 ? -ng : ng;
+  return Ray{offset_ray_origin(p, n), d, kInfinity};
+}
+/// Spawns a ray from `p` towards `target` that stops just short of it.
+KAURI_HOST_DEVICE inline Ray spawn_ray_to(Point3 p, Normal3 ng, Point3 target) {
+  Vec3 d = target - p;
+  Normal3 n = dot(d, ng) < 0 ? -ng : ng;
+  Point3 o = offset_ray_origin(p, n);
+  return Ray{o, target - o, 1 - 1e-4f};
+}
+
+}  // namespace kauri

@@ -1,0 +1,71 @@
+// The state a camera path carries from bounce to bounce, declared once.
+//
+// Extension points, so later features do not rewrite the integrator:
+//  - every scattering event goes through record_scatter(): bounce-budget
+//    counters live there today, a light-path-expression automaton state
+//    (`lpe_state`) advances there tomorrow;
+//  - every radiance contribution goes through PathOutput::add(): today it
+//    sums into the beauty, LPE AOVs will route it by `lpe_state` and `kind`.
+#pragma once
+
+#include "kauri/bsdf/bsdf_types.h"
+
+namespace kauri {
+
+struct IntegratorSettings {
+  int max_depth = 16;          // all bounces
+  int max_diffuse = 6;         // diffuse reflection/transmission events
+  int max_glossy = 8;          // glossy and specular reflection events
+  int max_transmission = 12;   // refraction events
+  int rr_min_depth = 3;        // Russian roulette starts after this many bounces
+  Float clamp = 0;             // per-sample luminance clamp for indirect light; 0 = off
+};
+
+enum class ContributionKind : uint8_t { Emission, DirectLight };
+
+struct PathState {
+  SampledSpectrum beta{1};     // throughput f·cos/pdf along the path
+  Float eta_scale = 1;         // Π η² of refractions, keeps RR unbiased in dense media
+  int depth = 0;
+  int diffuse_depth = 0, glossy_depth = 0, transmission_depth = 0;
+  bool specular_bounce = false;  // last event was a delta lobe (no MIS on the emitter hit)
+  bool any_non_specular = false;
+  Float prev_pdf = 0;          // BSDF pdf of the last bounce, for MIS on hit emitters
+  Point3 prev_p;               // where the last bounce happened
+  uint32_t lpe_state = 0;      // reserved for the LPE automaton
+
+  /// Counts an event against the bounce budgets; false when a budget is exhausted.
+  KAURI_HOST_DEVICE bool record_scatter(const BSDFSample& s, const IntegratorSettings& cfg) {
+    if (s.transmission) ++transmission_depth;
+    else if (s.scattering == Scattering::Diffuse) ++diffuse_depth;
+    else ++glossy_depth;
+    if (s.transmission && s.scattering == Scattering::Diffuse) ++diffuse_depth;
+    specular_bounce = s.is_specular();
+    any_non_specular = any_non_specular || !specular_bounce;
+    return diffuse_depth <= cfg.max_diffuse && glossy_depth <= cfg.max_glossy &&
+           transmission_depth <= cfg.max_transmission;
+  }
+};
+
+/// What one camera sample produces: beauty plus the first-hit data AOVs.
+struct PathOutput {
+  SampledSpectrum L{0};
+  SampledSpectrum L_direct_first{0};  // contributions before any indirect bounce (clamp exempt)
+  bool hit = false;                   // camera ray hit geometry (alpha)
+  bool albedo_set = false;
+  SampledSpectrum albedo{0};
+  Normal3 normal;
+  Float depth = kInfinity;
+  uint32_t rays = 0;
+
+  /// `st.depth` is the number of bounces before this contribution: light seen
+  /// directly or via one bounce (emitter hit after the first BSDF sample, or
+  /// next-event estimation at the first hit) is direct and never clamped.
+  KAURI_HOST_DEVICE void add(const SampledSpectrum& c, const PathState& st, ContributionKind kind) {
+    bool direct = kind == ContributionKind::DirectLight ? st.depth == 0 : st.depth <= 1;
+    if (direct) L_direct_first += c;
+    else L += c;
+  }
+};
+
+}  // namespace kauri

@@ -1,0 +1,131 @@
+// Unidirectional spectral path tracer with next-event estimation and MIS
+// (power heuristic), Russian roulette, per-type bounce budgets and NaN guards.
+//
+// `Accel` is any type with `bool intersect(const Ray&, HitRecord*) const` and
+// `bool occluded(const Ray&) const`: Embree on the CPU, our own BVH on CUDA.
+#pragma once
+
+#include "kauri/integrator/path_state.h"
+#include "kauri/sampler/sampler.h"
+#include "kauri/scene/scene_view.h"
+
+namespace kauri {
+
+namespace path_detail {
+
+/// Emission reaching the camera along a path segment that ended on an emitter or escaped.
+KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const PathState& st, int light,
+                                                  Vec3 wi, Point3 p_light, Normal3 n_light) {
+  if (st.depth == 0 || st.specular_bounce) return 1;
+  Float p_light_solid = s.light_pmf(light) * light_pdf(s.lights[light], st.prev_p, wi, p_light, n_light);
+  return power_heuristic(st.prev_pdf, p_light_solid);
+}
+
+/// One next-event estimate from `hit` with the BSDF `bsdf`.
+template <class Accel>
+KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel& accel, const SurfaceHit& hit,
+                                                const BSDF& bsdf, Vec3 wo, const SampledWavelengths& lambda,
+                                                Sampler& sampler, uint32_t* rays) {
+  Float u_light = sampler.get_1d();
+  Vec2 u = sampler.get_2d();
+  if (s.n_lights == 0) return SampledSpectrum(0);
+  Float pmf;
+  int li = s.light_distribution.sample_discrete(u_light, &pmf);
+  if (pmf <= 0) return SampledSpectrum(0);
+  const Light& light = s.lights[li];
+  LightSample ls = sample_light(light, hit.p, u, lambda);
+  if (!(ls.pdf > 0) || ls.L.is_black()) return SampledSpectrum(0);
+  SampledSpectrum f = bsdf.eval(wo, ls.wi, TransportMode::Radiance) * absdot(ls.wi, bsdf.frame.z);
+  if (f.is_black()) return SampledSpectrum(0);
+  ++*rays;
+  Ray shadow = ls.infinite ? spawn_ray(hit.p, hit.ng, ls.wi) : spawn_ray_to(hit.p, hit.ng, ls.p_light);
+  if (accel.occluded(shadow)) return SampledSpectrum(0);
+  Float p_l = pmf * ls.pdf;
+  Float w = ls.delta ? Float(1) : power_heuristic(p_l, bsdf.pdf(wo, ls.wi));
+  return f * ls.L * (w / p_l);
+}
+
+}  // namespace path_detail
+
+template <class Accel>
+KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const IntegratorSettings& cfg, Ray ray,
+                                  SampledWavelengths& lambda, Sampler& sampler, PathOutput* out) {
+  PathState st;
+  const Vec3 cam_fwd = s.camera.forward();
+  for (;;) {
+    HitRecord h;
+    ++out->rays;
+    if (!accel.intersect(ray, &h)) {
+      for (int i = 0; i < s.n_infinite_lights; ++i) {
+        int li = s.infinite_lights[i];
+        SampledSpectrum Le = infinite_light_Le(s.lights[li], ray.d, lambda);
+        if (Le.is_black()) continue;
+        Float w = path_detail::emitter_mis_weight(s, st, li, ray.d, Point3{}, Normal3{});
+        out->add(st.beta * Le * w, st, ContributionKind::Emission);
+      }
+      break;
+    }
+    SurfaceHit hit = compute_surface_hit(s, ray, h);
+    Vec3 wo = -ray.d;
+    if (st.depth == 0) {
+      out->hit = true;
+      out->normal = hit.ns;
+      out->depth = hit.t * dot(ray.d, cam_fwd);
+    }
+    if (hit.light >= 0) {
+      const Light& l = s.lights[hit.light];
+      SampledSpectrum Le = area_light_L(l, hit.ng, wo, lambda);
+      if (!Le.is_black()) {
+        Float w = path_detail::emitter_mis_weight(s, st, hit.light, ray.d, hit.p, hit.ng);
+        out->add(st.beta * Le * w, st, ContributionKind::Emission);
+      }
+    }
+    if (hit.material < 0) break;  // pure emitter: black surface
+
+    BSDF bsdf;
+    // Shading frame on the side of ω_o keeps one-sided lobes meaningful.
+    Normal3 ns = hit.ns;
+    Frame frame = Frame::from_zx(ns, hit.dpdu);
+    build_bsdf(s.materials[hit.material], s.lobes, s.lobe_weights, frame, hit.ng, wo, lambda, &bsdf);
+    if (!out->albedo_set && (bsdf.has_non_specular() || st.depth + 1 >= cfg.max_depth)) {
+      Vec3 wl = frame.to_local(wo);
+      SampledSpectrum a(0);
+      for (int i = 0; i < bsdf.n_lobes; ++i)
+        a += (bsdf.lobes[i].albedo_r(wl) + bsdf.lobes[i].albedo_t(wl)) * bsdf.weight[i];
+      out->albedo = a;
+      out->albedo_set = true;
+    }
+    if (st.depth >= cfg.max_depth) break;
+
+    if (bsdf.has_non_specular()) {
+      SampledSpectrum Ld = path_detail::sample_direct(s, accel, hit, bsdf, wo, lambda, sampler, &out->rays);
+      out->add(st.beta * Ld, st, ContributionKind::DirectLight);
+    } else {
+      sampler.get_1d();  // keep the dimension layout independent of the material
+      sampler.get_2d();
+    }
+
+    Float uc = sampler.get_1d();
+    Vec2 u = sampler.get_2d();
+    BSDFSample bs = bsdf.sample(wo, uc, u, lambda, TransportMode::Radiance);
+    if (!bs.valid() || bs.f.is_black()) break;
+    st.beta *= bs.f * (absdot(bs.wi, frame.z) / bs.pdf);
+    st.prev_pdf = bs.pdf;
+    st.prev_p = hit.p;
+    if (bs.transmission) st.eta_scale *= sqr(bs.eta);
+    ++st.depth;
+    if (!st.record_scatter(bs, cfg)) break;
+
+    // Russian roulette on the throughput, with radiance-scale from refraction removed.
+    Float u_rr = sampler.get_1d();
+    if (st.depth >= cfg.rr_min_depth) {
+      Float q = fmax_(Float(0), 1 - (st.beta * st.eta_scale).max_value());
+      if (u_rr < q) break;
+      st.beta *= 1 / (1 - q);
+    }
+    if (!st.beta.is_finite()) break;
+    ray = spawn_ray(hit.p, hit.ng, bs.wi);
+  }
+}
+
+}  // namespace kauri

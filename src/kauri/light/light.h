@@ -1,0 +1,121 @@
+// Lights as one plain struct with a type tag (device-portable dispatch).
+//
+// Conventions: `Le` spectra are radiance for area and environment lights,
+// radiant intensity for point and spot lights, and irradiance at normal
+// incidence for distant lights. Sampling densities are in solid angle as seen
+// from the reference point; the light selection probability is applied by the
+// caller.
+#pragma once
+
+#include "kauri/geometry/shapes.h"
+#include "kauri/sampler/sampling.h"
+#include "kauri/spectral/spectrum.h"
+
+namespace kauri {
+
+enum class LightType : uint8_t { Point, Spot, Distant, Triangle, Sphere, Disk, EnvConstant, EnvMap };
+
+/// One environment texel's radiance as a sigmoid-polynomial illuminant (Jakob & Hanika 2019):
+/// L(λ) = scale · s(c0 λ² + c1 λ + c2) · I(λ), I the working space's illuminant.
+struct EnvTexel {
+  Float scale, c0, c1, c2;
+};
+
+struct LightSample {
+  SampledSpectrum L;   // incident radiance (or intensity/r², irradiance for delta lights)
+  Vec3 wi;             // unit direction from the reference point to the light
+  Point3 p_light;      // point on the light (for shadow rays); far away for infinite lights
+  Normal3 n_light;     // its normal (area lights)
+  Float pdf = 0;       // solid-angle density, or 1 for delta lights
+  bool delta = false;
+  bool infinite = false;
+};
+
+struct Light {
+  LightType type = LightType::Point;
+  bool two_sided = false;
+  Spectrum Le;                  // see the conventions above
+  Point3 p0, p1, p2;            // triangle vertices; p0 = position/centre otherwise
+  Normal3 n{0, 0, 1};           // triangle/disk normal, spot/distant direction (emission direction)
+  Float radius = 0;             // sphere/disk radius
+  Float area = 0;
+  Float cos_inner = 1, cos_outer = 0;  // spot cone
+  Float cos_max = 1;            // distant light angular radius (cos), 1 = delta
+  Frame frame;                  // spot/distant/env orientation
+  Point3 scene_center;
+  Float scene_radius = 1;
+  // Environment image (lat-long, row-major, width × height) and its sampling density.
+  const EnvTexel* texels = nullptr;
+  DenselySampled illuminant{nullptr, 360, 1, 0};  // working-space white (Y = 1)
+  int width = 0, height = 0;
+  Distribution2D distribution;
+
+  KAURI_HOST_DEVICE bool is_infinite() const {
+    return type == LightType::Distant || type == LightType::EnvConstant || type == LightType::EnvMap;
+  }
+  KAURI_HOST_DEVICE bool is_delta() const {
+    return type == LightType::Point || type == LightType::Spot || (type == LightType::Distant && cos_max >= 1);
+  }
+};
+
+// ---- Environment mapping: lat-long with +Y up, u = atan2(x, −z)/2π, v = acos(y)/π
+// (the convention Mitsuba 3 uses, so scenes translate one to one).
+KAURI_HOST_DEVICE inline Vec2 direction_to_latlong(Vec3 d) {
+  Float u = std::atan2(d.x, -d.z) * kInv2Pi;
+  if (u < 0) u += 1;
+  return {u, safe_acos(d.y) * kInvPi};
+}
+KAURI_HOST_DEVICE inline Vec3 latlong_to_direction(Vec2 uv) {
+  Float phi = uv.x * 2 * kPi, theta = uv.y * kPi;
+  Float s = std::sin(theta);
+  return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
+}
+
+KAURI_HOST_DEVICE inline SampledSpectrum env_texel_radiance(const Light& l, Vec2 uv, const SampledWavelengths& lambda) {
+  int x = int(uv.x * Float(l.width)), y = int(uv.y * Float(l.height));
+  x = x < 0 ? 0 : (x >= l.width ? l.width - 1 : x);
+  y = y < 0 ? 0 : (y >= l.height ? l.height - 1 : y);
+  const EnvTexel& t = l.texels[size_t(y) * size_t(l.width) + size_t(x)];
+  SampledSpectrum s;
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    Float lam = lambda.lambda[i];
+    Float xx = (t.c0 * lam + t.c1) * lam + t.c2;
+    Float sig = std::isinf(xx) ? (xx > 0 ? Float(1) : Float(0)) : Float(0.5) + xx / (2 * std::sqrt(1 + xx * xx));
+    s[i] = t.scale * sig * l.illuminant(lam);
+  }
+  return s;
+}
+
+/// Radiance arriving along direction `w` (world) from an infinite light; 0 for others.
+KAURI_HOST_DEVICE inline SampledSpectrum infinite_light_Le(const Light& l, Vec3 w, const SampledWavelengths& lambda) {
+  switch (l.type) {
+    case LightType::EnvConstant: return l.Le.sample(lambda);
+    case LightType::EnvMap: return env_texel_radiance(l, direction_to_latlong(l.frame.to_local(w)), lambda);
+    case LightType::Distant:
+      if (l.cos_max < 1 && dot(w, -l.n) >= l.cos_max)
+        return l.Le.sample(lambda) / (kPi * (1 - sqr(l.cos_max)));
+      return SampledSpectrum(0);
+    default: return SampledSpectrum(0);
+  }
+}
+
+/// Radiance leaving an area light at point with normal `n` towards `w`.
+KAURI_HOST_DEVICE inline SampledSpectrum area_light_L(const Light& l, Normal3 n, Vec3 w, const SampledWavelengths& lambda) {
+  if (!l.two_sided && dot(n, w) <= 0) return SampledSpectrum(0);
+  return l.Le.sample(lambda);
+}
+
+/// Converts an area density at a light point to solid angle from `p`.
+KAURI_HOST_DEVICE inline Float area_to_solid_angle(Float pdf_area, Point3 p, Point3 pl, Normal3 nl) {
+  Vec3 d = pl - p;
+  Float d2 = length_squared(d);
+  Float c = absdot(nl, d) / std::sqrt(d2);
+  return c > 0 ? pdf_area * d2 / c : 0;
+}
+
+KAURI_HOST_DEVICE LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda);
+KAURI_HOST_DEVICE Float light_pdf(const Light& l, Point3 p, Vec3 wi, Point3 p_light, Normal3 n_light);
+
+}  // namespace kauri
+
+#include "kauri/light/light_sampling.inl"

@@ -1,0 +1,152 @@
+// Sampling routines of light.h (kept apart so the interface stays readable).
+#pragma once
+
+namespace kauri {
+
+namespace light_detail {
+
+KAURI_HOST_DEVICE inline LightSample sample_sphere(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda) {
+  LightSample s;
+  Vec3 to_c = l.p0 - p;
+  Float d2 = length_squared(to_c);
+  Float r2 = l.radius * l.radius;
+  if (d2 <= r2 * 1.0001f) {
+    // Inside the sphere: uniform area sampling.
+    Vec3 n = sample_uniform_sphere(u);
+    s.p_light = l.p0 + n * l.radius;
+    s.n_light = n;
+    Vec3 d = s.p_light - p;
+    if (length_squared(d) == 0) return s;
+    s.wi = normalize(d);
+    s.pdf = area_to_solid_angle(1 / l.area, p, s.p_light, n);
+  } else {
+    // Uniform cone of directions subtended by the sphere; pdf 1/(2π(1−cosθ_max)).
+    Float d = std::sqrt(d2);
+    Float sin2_max = r2 / d2;
+    Float cos_max = safe_sqrt(1 - sin2_max);
+    Frame f = Frame::from_z(to_c / d);
+    Vec3 w = f.to_world(sample_uniform_cone(u, cos_max));
+    // Nearest intersection of the ray with the sphere (stable form).
+    Float b = dot(w, to_c);
+    Float disc = r2 - (d2 - b * b);
+    Float t = b - safe_sqrt(disc);
+    s.wi = w;
+    s.p_light = p + w * t;
+    s.n_light = normalize(s.p_light - l.p0);
+    s.pdf = uniform_cone_pdf(cos_max);
+  }
+  s.L = area_light_L(l, s.n_light, -s.wi, lambda);
+  return s;
+}
+
+KAURI_HOST_DEVICE inline LightSample sample_area(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda) {
+  LightSample s;
+  if (l.type == LightType::Triangle) {
+    Vec2 b = sample_uniform_triangle(u);
+    s.p_light = l.p0 * b.x + l.p1 * b.y + l.p2 * (1 - b.x - b.y);
+  } else {
+    Vec2 d = sample_uniform_disk(u);
+    s.p_light = l.p0 + (l.frame.x * d.x + l.frame.y * d.y) * l.radius;
+  }
+  s.n_light = l.n;
+  Vec3 d = s.p_light - p;
+  if (length_squared(d) == 0) return s;
+  s.wi = normalize(d);
+  s.pdf = area_to_solid_angle(1 / l.area, p, s.p_light, l.n);
+  s.L = area_light_L(l, s.n_light, -s.wi, lambda);
+  return s;
+}
+
+KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda) {
+  LightSample s;
+  s.infinite = true;
+  if (l.type == LightType::EnvConstant) {
+    s.wi = sample_uniform_sphere(u);
+    s.pdf = uniform_sphere_pdf();
+  } else {
+    Float pdf_uv;
+    Vec2 uv = l.distribution.sample(u, &pdf_uv);
+    Float sin_theta = std::sin(uv.y * kPi);
+    if (pdf_uv == 0 || sin_theta == 0) return s;
+    s.wi = l.frame.to_world(latlong_to_direction(uv));
+    s.pdf = pdf_uv / (2 * kPi * kPi * sin_theta);
+  }
+  s.p_light = p + s.wi * (2 * l.scene_radius + distance(p, l.scene_center));
+  s.L = infinite_light_Le(l, s.wi, lambda);
+  return s;
+}
+
+}  // namespace light_detail
+
+KAURI_HOST_DEVICE inline LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda) {
+  LightSample s;
+  switch (l.type) {
+    case LightType::Point:
+    case LightType::Spot: {
+      Vec3 d = l.p0 - p;
+      Float d2 = length_squared(d);
+      if (d2 == 0) return s;
+      s.wi = d / std::sqrt(d2);
+      s.p_light = l.p0;
+      s.pdf = 1;
+      s.delta = true;
+      Float falloff = 1;
+      if (l.type == LightType::Spot) {
+        // Smoothstep between the outer and inner cone (a common artist falloff).
+        Float c = dot(-s.wi, l.n);
+        Float t = clamp((c - l.cos_outer) / fmax_(l.cos_inner - l.cos_outer, 1e-6f), 0, 1);
+        falloff = t * t * (3 - 2 * t);
+      }
+      s.L = l.Le.sample(lambda) * (falloff / d2);
+      return s;
+    }
+    case LightType::Distant: {
+      s.infinite = true;
+      if (l.cos_max >= 1) {
+        s.wi = -l.n;
+        s.pdf = 1;
+        s.delta = true;
+        s.L = l.Le.sample(lambda);
+      } else {
+        s.wi = l.frame.to_world(sample_uniform_cone(u, l.cos_max));
+        s.pdf = uniform_cone_pdf(l.cos_max);
+        s.L = infinite_light_Le(l, s.wi, lambda);
+      }
+      s.p_light = p + s.wi * (2 * l.scene_radius + distance(p, l.scene_center));
+      return s;
+    }
+    case LightType::Triangle:
+    case LightType::Disk: return light_detail::sample_area(l, p, u, lambda);
+    case LightType::Sphere: return light_detail::sample_sphere(l, p, u, lambda);
+    case LightType::EnvConstant:
+    case LightType::EnvMap: return light_detail::sample_env(l, p, u, lambda);
+  }
+  return s;
+}
+
+/// Solid-angle density with which sample_light() would have produced direction
+/// `wi` from `p`; `p_light`/`n_light` describe where that direction meets an area light.
+KAURI_HOST_DEVICE inline Float light_pdf(const Light& l, Point3 p, Vec3 wi, Point3 p_light, Normal3 n_light) {
+  switch (l.type) {
+    case LightType::Triangle:
+    case LightType::Disk: return area_to_solid_angle(1 / l.area, p, p_light, n_light);
+    case LightType::Sphere: {
+      Float d2 = length_squared(l.p0 - p), r2 = l.radius * l.radius;
+      if (d2 <= r2 * 1.0001f) return area_to_solid_angle(1 / l.area, p, p_light, n_light);
+      return uniform_cone_pdf(safe_sqrt(1 - r2 / d2));
+    }
+    case LightType::Distant:
+      if (l.cos_max < 1 && dot(wi, -l.n) >= l.cos_max) return uniform_cone_pdf(l.cos_max);
+      return 0;
+    case LightType::EnvConstant: return uniform_sphere_pdf();
+    case LightType::EnvMap: {
+      Vec2 uv = direction_to_latlong(l.frame.to_local(wi));
+      Float sin_theta = std::sin(uv.y * kPi);
+      if (sin_theta == 0) return 0;
+      return l.distribution.pdf(uv) / (2 * kPi * kPi * sin_theta);
+    }
+    default: return 0;
+  }
+}
+
+}  // namespace kauri

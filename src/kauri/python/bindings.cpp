@@ -1,0 +1,256 @@
+// nanobind module kauri._core: the host scene API, render(), and image output.
+// The friendly, keyword-checked API lives in python/kauri/; this layer is thin.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include "kauri/film/image_io.h"
+#include "kauri/render/renderer.h"
+#include "kauri/scene/scene.h"
+
+namespace nb = nanobind;
+using namespace nb::literals;
+
+namespace kauri {
+namespace {
+
+using FloatArray = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
+using IndexArray = nb::ndarray<const uint32_t, nb::c_contig, nb::device::cpu>;
+using Vec3T = std::tuple<float, float, float>;
+
+Vec3 v3(const Vec3T& t) { return {std::get<0>(t), std::get<1>(t), std::get<2>(t)}; }
+
+std::vector<float> to_vector(const FloatArray& a) { return std::vector<float>(a.data(), a.data() + a.size()); }
+
+EmissionDesc emission(Vec3T color, float intensity, float temperature, bool two_sided) {
+  return EmissionDesc{v3(color), temperature, intensity, two_sided};
+}
+
+void read_matrix(const FloatArray& m, const std::string& what, double out[3][4]) {
+  if (!((m.ndim() == 2 && (m.shape(0) == 3 || m.shape(0) == 4) && m.shape(1) == 4)))
+    throw std::invalid_argument(what + ": parameter 'transform': must be a 3x4 or 4x4 matrix");
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) out[r][c] = m.data()[r * 4 + c];
+}
+
+ColorSpaceId parse_cs(const std::string& name) {
+  ColorSpaceId id;
+  if (!parse_color_space(name, &id))
+    throw std::invalid_argument("parameter 'color_space': unknown colour space '" + name + "' (expected 'acescg' or 'srgb')");
+  return id;
+}
+
+nb::ndarray<nb::numpy, float> to_numpy(const std::vector<float>& v, std::initializer_list<size_t> shape) {
+  auto* copy = new std::vector<float>(v);
+  nb::capsule owner(copy, [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });
+  return nb::ndarray<nb::numpy, float>(copy->data(), shape, owner);
+}
+
+struct PyRenderResult {
+  RenderResult r;
+  ColorSpaceId cs;
+  uint64_t seed;
+};
+
+}  // namespace
+}  // namespace kauri
+
+NB_MODULE(_core, m) {
+  using namespace kauri;
+  m.doc() = "kauri core: spectral path tracer";
+  m.attr("__version__") = KAURI_VERSION;
+
+  nb::class_<Scene>(m, "Scene")
+      .def(nb::init<>())
+      .def("set_color_space", [](Scene& s, const std::string& n) { s.set_color_space(parse_cs(n)); })
+      .def("add_lambert", [](Scene& s, const std::string& name, Vec3T albedo) {
+        MaterialDesc d;
+        d.name = name;
+        d.type = LobeType::Lambert;
+        d.albedo = v3(albedo);
+        return s.add_material(d);
+      })
+      .def("add_dielectric", [](Scene& s, const std::string& name, float ior, float abbe) {
+        MaterialDesc d;
+        d.name = name;
+        d.type = LobeType::SmoothDielectric;
+        d.ior = ior;
+        d.abbe = abbe;
+        return s.add_material(d);
+      })
+      .def("add_conductor", [](Scene& s, const std::string& name, const std::string& metal, Vec3T eta, Vec3T k,
+                               float roughness, float anisotropy) {
+        MaterialDesc d;
+        d.name = name;
+        d.type = LobeType::GGXConductor;
+        d.metal = metal;
+        d.eta_rgb = v3(eta);
+        d.k_rgb = v3(k);
+        d.roughness = roughness;
+        d.anisotropy = anisotropy;
+        return s.add_material(d);
+      })
+      .def("add_group", &Scene::add_group)
+      .def("add_instance", [](Scene& s, const std::string& name, int group, const FloatArray& xf) {
+        double rows[3][4];
+        read_matrix(xf, "instance '" + name + "'", rows);
+        return s.add_instance(name, group, rows);
+      })
+      .def("add_mesh", [](Scene& s, int group, const std::string& name, const FloatArray& positions,
+                          const IndexArray& indices, int face_size, std::optional<FloatArray> normals,
+                          std::optional<FloatArray> uvs, int material, bool emissive, Vec3T color, float intensity,
+                          float temperature, bool two_sided) {
+        MeshDesc d;
+        d.name = name;
+        d.positions = to_vector(positions);
+        d.indices.assign(indices.data(), indices.data() + indices.size());
+        d.face_size = face_size;
+        if (normals) d.normals = to_vector(*normals);
+        if (uvs) d.uvs = to_vector(*uvs);
+        d.material = material;
+        d.emissive = emissive;
+        d.emission = emission(color, intensity, temperature, two_sided);
+        return s.add_mesh(group, std::move(d));
+      }, "group"_a, "name"_a, "positions"_a, "indices"_a, "face_size"_a, "normals"_a.none(), "uvs"_a.none(),
+         "material"_a, "emissive"_a, "color"_a, "intensity"_a, "temperature"_a, "two_sided"_a)
+      .def("add_sphere", [](Scene& s, int group, const std::string& name, Vec3T center, float radius, int material,
+                            bool emissive, Vec3T color, float intensity, float temperature, bool two_sided) {
+        SphereDesc d{name, v3(center), radius, material, emissive, emission(color, intensity, temperature, two_sided)};
+        return s.add_sphere(group, d);
+      })
+      .def("add_disk", [](Scene& s, int group, const std::string& name, Vec3T center, Vec3T normal, float radius,
+                          int material, bool emissive, Vec3T color, float intensity, float temperature, bool two_sided) {
+        DiskDesc d{name, v3(center), v3(normal), radius, material, emissive,
+                   emission(color, intensity, temperature, two_sided)};
+        return s.add_disk(group, d);
+      })
+      .def("add_light", [](Scene& s, const std::string& kind, const std::string& name, Vec3T position, Vec3T direction,
+                           Vec3T color, float intensity, float temperature, float cone_angle, float cone_softness,
+                           float angle, std::optional<FloatArray> image, std::optional<FloatArray> rotation) {
+        LightDesc d;
+        d.name = name;
+        if (kind == "point") d.type = LightType::Point;
+        else if (kind == "spot") d.type = LightType::Spot;
+        else if (kind == "distant") d.type = LightType::Distant;
+        else if (kind == "environment") d.type = image ? LightType::EnvMap : LightType::EnvConstant;
+        else throw std::invalid_argument("light '" + name + "': unknown light type '" + kind + "'");
+        d.position = v3(position);
+        d.direction = v3(direction);
+        d.emission = emission(color, intensity, temperature, false);
+        d.cone_angle = cone_angle;
+        d.cone_softness = cone_softness;
+        d.angle = angle;
+        if (image) {
+          if (image->ndim() != 3 || image->shape(2) != 3)
+            throw std::invalid_argument("light '" + name + "': parameter 'image': must be a (height, width, 3) array");
+          d.height = int(image->shape(0));
+          d.width = int(image->shape(1));
+          d.image = to_vector(*image);
+        }
+        if (rotation) read_matrix(*rotation, "light '" + name + "'", d.rotation);
+        return s.add_light(d);
+      }, "kind"_a, "name"_a, "position"_a, "direction"_a, "color"_a, "intensity"_a, "temperature"_a, "cone_angle"_a,
+         "cone_softness"_a, "angle"_a, "image"_a.none(), "rotation"_a.none())
+      .def("set_camera", [](Scene& s, const std::string& kind, Vec3T eye, Vec3T target, Vec3T up, float fov,
+                            const std::string& fov_axis, float width, float aperture_radius, float focus_distance) {
+        CameraDesc c;
+        if (kind == "perspective") c.type = CameraType::Perspective;
+        else if (kind == "orthographic") c.type = CameraType::Orthographic;
+        else throw std::invalid_argument("camera: unknown camera type '" + kind + "'");
+        c.eye = v3(eye);
+        c.target = v3(target);
+        c.up = v3(up);
+        c.fov = fov;
+        c.fov_axis = fov_axis.size() == 1 ? fov_axis[0] : '?';
+        c.ortho_width = width;
+        c.aperture_radius = aperture_radius;
+        c.focus_distance = focus_distance;
+        s.set_camera(c);
+      });
+
+  nb::class_<PyRenderResult>(m, "RenderResult")
+      .def_prop_ro("rgba", [](const PyRenderResult& p) { return to_numpy(p.r.rgba, {size_t(p.r.height), size_t(p.r.width), 4}); }, nb::rv_policy::move)
+      .def_prop_ro("albedo", [](const PyRenderResult& p) { return to_numpy(p.r.albedo, {size_t(p.r.height), size_t(p.r.width), 3}); }, nb::rv_policy::move)
+      .def_prop_ro("normal", [](const PyRenderResult& p) { return to_numpy(p.r.normal, {size_t(p.r.height), size_t(p.r.width), 3}); }, nb::rv_policy::move)
+      .def_prop_ro("depth", [](const PyRenderResult& p) { return to_numpy(p.r.depth, {size_t(p.r.height), size_t(p.r.width)}); }, nb::rv_policy::move)
+      .def_prop_ro("stats", [](const PyRenderResult& p) {
+        const RenderStats& s = p.r.stats;
+        nb::dict d;
+        d["seconds"] = s.seconds;
+        d["spp"] = s.spp;
+        d["samples"] = s.samples;
+        d["rays"] = s.rays;
+        d["samples_per_second"] = s.samples_per_second();
+        d["rays_per_second"] = s.rays_per_second();
+        d["nan_samples"] = s.nan_samples;
+        nb::list nan;
+        for (const NaNReport& r : s.nan_pixels) nan.append(nb::make_tuple(r.x, r.y, r.sample));
+        d["nan_pixels"] = nan;
+        d["scene_bytes"] = s.scene_bytes;
+        d["peak_rss_bytes"] = s.peak_rss_bytes;
+        d["summary"] = s.summary();
+        return d;
+      })
+      .def_prop_ro("color_space", [](const PyRenderResult& p) { return std::string(color_space_name(p.cs)); })
+      .def("write_exr", [](const PyRenderResult& p, const std::string& path, const std::string& scene_name) {
+        nb::gil_scoped_release release;
+        write_exr(path, p.r, ExrMetadata{p.cs, p.seed, scene_name});
+      }, "path"_a, "scene_name"_a = "")
+      .def("write_png", [](const PyRenderResult& p, const std::string& path, float exposure) {
+        nb::gil_scoped_release release;
+        write_png_preview(path, p.r, p.cs, exposure);
+      }, "path"_a, "exposure"_a = 0.0f);
+
+  m.def("render", [](const Scene& scene, int width, int height, int spp, uint64_t seed, int threads, double time_limit,
+                     const std::string& sampler, int max_depth, int max_diffuse, int max_glossy, int max_transmission,
+                     float clamp, const std::string& filter, float filter_radius, bool progress) {
+    if (spp <= 0) throw std::invalid_argument("render: parameter 'spp': must be > 0");
+    if (threads < 0) throw std::invalid_argument("render: parameter 'threads': must be >= 0");
+    if (!(time_limit >= 0)) throw std::invalid_argument("render: parameter 'time_limit': must be >= 0");
+    if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
+      throw std::invalid_argument("render: parameter 'resolution': must be between 1 and 65536");
+    RenderSettings cfg;
+    cfg.width = width;
+    cfg.height = height;
+    cfg.spp = spp;
+    cfg.seed = seed;
+    cfg.threads = threads;
+    cfg.time_limit = time_limit;
+    if (sampler == "sobol") cfg.sampler = SamplerType::Sobol;
+    else if (sampler == "independent") cfg.sampler = SamplerType::Independent;
+    else throw std::invalid_argument("render: parameter 'sampler': expected 'sobol' or 'independent', got '" + sampler + "'");
+    cfg.integrator.max_depth = max_depth;
+    cfg.integrator.max_diffuse = max_diffuse;
+    cfg.integrator.max_glossy = max_glossy;
+    cfg.integrator.max_transmission = max_transmission;
+    if (!(clamp >= 0)) throw std::invalid_argument("render: parameter 'clamp': must be >= 0 (0 = off)");
+    cfg.integrator.clamp = clamp;
+    if (filter == "gaussian") cfg.filter.type = FilterType::Gaussian;
+    else if (filter == "box") cfg.filter.type = FilterType::Box;
+    else throw std::invalid_argument("render: parameter 'filter': expected 'gaussian' or 'box', got '" + filter + "'");
+    if (!(filter_radius > 0 && filter_radius <= 8)) throw std::invalid_argument("render: parameter 'filter_radius': must be in (0, 8]");
+    cfg.filter.radius = filter_radius;
+    cfg.filter.sigma = filter == "gaussian" ? filter_radius / 3 : filter_radius;
+    cfg.progress = progress;
+    auto* out = new PyRenderResult{{}, scene.color_space_id(), seed};
+    try {
+      nb::gil_scoped_release release;
+      auto compiled = scene.compile(width, height);
+      out->r = render(*compiled, cfg);
+    } catch (...) {
+      delete out;
+      throw;
+    }
+    return out;
+  }, nb::rv_policy::take_ownership);
+
+  m.def("read_rgb_image", [](const std::string& path) {
+    std::vector<float> rgb;
+    int w, h;
+    read_rgb_image(path, &rgb, &w, &h);
+    return to_numpy(rgb, {size_t(h), size_t(w), 3});
+  });
+}

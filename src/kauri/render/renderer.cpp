@@ -1,0 +1,260 @@
+#include "kauri/render/renderer.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <sstream>
+
+#include "kauri/integrator/path_tracer.h"
+
+namespace kauri {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::string format_duration(double s) {
+  char buf[32];
+  if (!std::isfinite(s)) return "--:--";
+  int t = int(s + 0.5);
+  if (t >= 3600) std::snprintf(buf, sizeof buf, "%d:%02d:%02d", t / 3600, (t / 60) % 60, t % 60);
+  else std::snprintf(buf, sizeof buf, "%02d:%02d", t / 60, t % 60);
+  return buf;
+}
+
+std::string format_rate(double v) {
+  char buf[32];
+  if (v >= 1e9) std::snprintf(buf, sizeof buf, "%.2fG", v / 1e9);
+  else if (v >= 1e6) std::snprintf(buf, sizeof buf, "%.2fM", v / 1e6);
+  else if (v >= 1e3) std::snprintf(buf, sizeof buf, "%.1fk", v / 1e3);
+  else std::snprintf(buf, sizeof buf, "%.0f", v);
+  return buf;
+}
+
+/// Progress bar on stderr, redrawn at most 4 times a second by whichever thread gets there.
+class ProgressBar {
+ public:
+  ProgressBar(bool enabled, uint64_t total, double time_limit)
+      : enabled_(enabled), total_(total), time_limit_(time_limit), start_(Clock::now()) {}
+  void add(uint64_t samples) {
+    uint64_t done = done_.fetch_add(samples) + samples;
+    if (!enabled_) return;
+    double t = seconds_since(start_);
+    std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+    if (!lock.owns_lock() || t - last_draw_ < 0.25) return;
+    last_draw_ = t;
+    draw(done, t, false);
+  }
+  void finish() {
+    if (enabled_) draw(done_.load(), seconds_since(start_), true);
+  }
+
+ private:
+  void draw(uint64_t done, double t, bool final) {
+    double frac = total_ ? std::min(1.0, double(done) / double(total_)) : 1;
+    if (time_limit_ > 0) frac = std::max(frac, std::min(1.0, t / time_limit_));
+    double eta = frac > 0 ? t * (1 - frac) / frac : INFINITY;
+    if (time_limit_ > 0) eta = std::min(eta, std::max(0.0, time_limit_ - t));
+    const int width = 30;
+    int filled = int(frac * width);
+    std::string bar(size_t(filled), '#');
+    bar.resize(width, '-');
+    std::fprintf(stderr, "\r[%s] %5.1f%%  %s samples/s  elapsed %s  ETA %s ", bar.c_str(), 100 * frac,
+                 format_rate(t > 0 ? double(done) / t : 0).c_str(), format_duration(t).c_str(),
+                 final ? "00:00" : format_duration(eta).c_str());
+    if (final) std::fputc('\n', stderr);
+    std::fflush(stderr);
+  }
+  bool enabled_;
+  uint64_t total_;
+  double time_limit_;
+  Clock::time_point start_;
+  std::atomic<uint64_t> done_{0};
+  std::mutex mutex_;
+  double last_draw_ = -1;
+};
+
+struct TileContext {
+  const CompiledScene& scene;
+  const RenderSettings& cfg;
+  std::vector<PixelAccum>& film;
+  std::atomic<uint64_t>& rays;
+  std::atomic<uint64_t>& nan_samples;
+  std::vector<NaNReport>& nan_pixels;
+  std::mutex& nan_mutex;
+};
+
+/// Clamps the indirect part of a sample to luminance `clamp` (hue preserved).
+Vec3 clamp_luminance(Vec3 rgb, Float y, Float clamp) {
+  if (clamp <= 0 || y <= clamp) return rgb;
+  return rgb * (clamp / y);
+}
+
+void render_pixel_samples(const TileContext& c, int x, int y, uint32_t s0, uint32_t s1, uint64_t* rays) {
+  const SceneView& sv = c.scene.view();
+  const EmbreeAccel& accel = c.scene.accel();
+  PixelAccum& px = c.film[size_t(y) * size_t(c.cfg.width) + size_t(x)];
+  Sampler sampler;
+  sampler.type = c.cfg.sampler;
+  for (uint32_t s = s0; s < s1; ++s) {
+    sampler.start_pixel_sample(x, y, s, c.cfg.seed);
+    Vec2 film_offset = c.cfg.filter.sample(sampler.get_2d());
+    Vec2 u_lens = sampler.get_2d();
+    SampledWavelengths lambda = SampledWavelengths::sample_visible(sampler.get_1d());
+    Ray ray = sv.camera.generate_ray({Float(x) + 0.5f + film_offset.x, Float(y) + 0.5f + film_offset.y}, u_lens);
+    PathOutput out;
+    trace_path(sv, accel, c.cfg.integrator, ray, lambda, sampler, &out);
+    *rays += out.rays;
+    Vec3 direct = sv.to_rgb(sampled_to_xyz(out.L_direct_first, lambda));
+    Vec3 indirect_xyz = sampled_to_xyz(out.L, lambda);
+    Vec3 rgb = direct + clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, c.cfg.integrator.clamp);
+    ++px.samples;
+    if (!is_finite(rgb)) {
+      // A NaN/Inf sample is counted and reported, never splatted; the pixel keeps
+      // its sample count so the estimate stays normalised by what was traced.
+      c.nan_samples.fetch_add(1);
+      std::lock_guard<std::mutex> lock(c.nan_mutex);
+      if (c.nan_pixels.size() < 32) c.nan_pixels.push_back({x, y, s});
+      continue;
+    }
+    px.rgb[0] += rgb.x;
+    px.rgb[1] += rgb.y;
+    px.rgb[2] += rgb.z;
+    if (out.hit) {
+      px.alpha += 1;
+      px.normal[0] += out.normal.x;
+      px.normal[1] += out.normal.y;
+      px.normal[2] += out.normal.z;
+      if (std::isfinite(out.depth)) {
+        px.depth += out.depth;
+        ++px.depth_count;
+      }
+    }
+    if (out.albedo_set) {
+      // Albedo as the colour of a reflectance under the working space's white.
+      Vec3 a = sv.to_rgb(sampled_to_xyz(out.albedo * sv.illuminant.sample(lambda), lambda));
+      if (is_finite(a)) {
+        px.albedo[0] += a.x;
+        px.albedo[1] += a.y;
+        px.albedo[2] += a.z;
+      }
+    }
+  }
+}
+
+RenderResult resolve(const std::vector<PixelAccum>& film, int w, int h) {
+  RenderResult r;
+  r.width = w;
+  r.height = h;
+  const size_t n = size_t(w) * size_t(h);
+  r.rgba.resize(4 * n);
+  r.albedo.resize(3 * n);
+  r.normal.resize(3 * n);
+  r.depth.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const PixelAccum& p = film[i];
+    double inv = p.samples ? 1.0 / p.samples : 0;
+    for (int k = 0; k < 3; ++k) {
+      r.rgba[4 * i + size_t(k)] = float(p.rgb[k] * inv);
+      r.albedo[3 * i + size_t(k)] = float(p.albedo[k] * inv);
+    }
+    r.rgba[4 * i + 3] = float(p.alpha * inv);
+    Vec3 nrm{Float(p.normal[0]), Float(p.normal[1]), Float(p.normal[2])};
+    Float l = length(nrm);
+    if (l > 0) nrm = nrm / l;
+    r.normal[3 * i] = nrm.x;
+    r.normal[3 * i + 1] = nrm.y;
+    r.normal[3 * i + 2] = nrm.z;
+    r.depth[i] = p.depth_count ? float(p.depth / p.depth_count) : INFINITY;
+  }
+  return r;
+}
+
+}  // namespace
+
+size_t peak_rss_bytes() {
+  struct rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  return size_t(ru.ru_maxrss) * 1024;
+}
+
+std::string RenderStats::summary() const {
+  std::ostringstream os;
+  os << "render time " << format_duration(seconds) << " (" << seconds << " s), " << spp << " spp, "
+     << format_rate(samples_per_second()) << " samples/s, " << rays << " rays, " << format_rate(rays_per_second())
+     << " rays/s, scene " << (scene_bytes >> 20) << " MiB, peak memory " << (peak_rss_bytes >> 20) << " MiB";
+  if (nan_samples) {
+    os << "\nwarning: " << nan_samples << " non-finite samples discarded, first at pixel";
+    for (size_t i = 0; i < nan_pixels.size() && i < 4; ++i)
+      os << " (" << nan_pixels[i].x << ", " << nan_pixels[i].y << ")";
+  }
+  return os.str();
+}
+
+RenderResult render(const CompiledScene& scene, const RenderSettings& cfg) {
+  const int w = cfg.width, h = cfg.height;
+  std::vector<PixelAccum> film(size_t(w) * size_t(h));
+  std::atomic<uint64_t> rays{0}, nan_samples{0};
+  std::vector<NaNReport> nan_pixels;
+  std::mutex nan_mutex;
+  TileContext ctx{scene, cfg, film, rays, nan_samples, nan_pixels, nan_mutex};
+
+  const int ts = std::max(1, cfg.tile_size);
+  const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
+  const int threads = cfg.threads > 0 ? cfg.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  ProgressBar progress(cfg.progress, uint64_t(w) * uint64_t(h) * uint64_t(cfg.spp), cfg.time_limit);
+
+  auto t0 = Clock::now();
+  uint32_t done_spp = 0, pass_spp = 1;
+  while (done_spp < uint32_t(cfg.spp)) {
+    // Progressive passes of growing size: early passes give a quick full image,
+    // later ones amortise the scheduling; each pass is deterministic by itself.
+    uint32_t s0 = done_spp, s1 = std::min<uint32_t>(uint32_t(cfg.spp), done_spp + pass_spp);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
+        for (int t = r.begin(); t != r.end(); ++t) {
+          int x0 = (t % tiles_x) * ts, y0 = (t / tiles_x) * ts;
+          uint64_t tile_rays = 0;
+          for (int y = y0; y < std::min(h, y0 + ts); ++y)
+            for (int x = x0; x < std::min(w, x0 + ts); ++x) render_pixel_samples(ctx, x, y, s0, s1, &tile_rays);
+          rays.fetch_add(tile_rays);
+          progress.add(uint64_t(std::min(h, y0 + ts) - y0) * uint64_t(std::min(w, x0 + ts) - x0) * (s1 - s0));
+        }
+      });
+    });
+    done_spp = s1;
+    pass_spp = std::min<uint32_t>(pass_spp * 2, 16);
+    if (cfg.time_limit > 0 && seconds_since(t0) >= cfg.time_limit) break;
+  }
+  progress.finish();
+
+  RenderResult result = resolve(film, w, h);
+  RenderStats& st = result.stats;
+  st.seconds = seconds_since(t0);
+  st.spp = int(done_spp);
+  st.samples = uint64_t(w) * uint64_t(h) * done_spp;
+  st.rays = rays.load();
+  st.nan_samples = nan_samples.load();
+  std::sort(nan_pixels.begin(), nan_pixels.end(),
+            [](const NaNReport& a, const NaNReport& b) { return std::tie(a.sample, a.y, a.x) < std::tie(b.sample, b.y, b.x); });
+  st.nan_pixels = nan_pixels;
+  st.scene_bytes = scene.bytes();
+  st.peak_rss_bytes = peak_rss_bytes();
+  return result;
+}
+
+}  // namespace kauri

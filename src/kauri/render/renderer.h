@@ -1,0 +1,62 @@
+// Render session: tiled, progressive rendering over TBB with progress, time
+// limit and statistics. Host code driving the device-portable path tracer.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "kauri/film/film.h"
+#include "kauri/integrator/path_state.h"
+#include "kauri/sampler/sampler.h"
+#include "kauri/scene/scene.h"
+
+namespace kauri {
+
+struct RenderSettings {
+  int width = 640, height = 480;
+  int spp = 64;
+  uint64_t seed = 0;
+  int threads = 0;            // 0 = all cores
+  double time_limit = 0;      // seconds; 0 = none (stops at a pass boundary)
+  SamplerType sampler = SamplerType::Sobol;
+  IntegratorSettings integrator;
+  PixelFilter filter;
+  int tile_size = 16;
+  bool progress = true;       // progress bar with samples/s and ETA on stderr
+};
+
+struct NaNReport {
+  int x, y;
+  uint32_t sample;
+};
+
+struct RenderStats {
+  double seconds = 0;
+  uint64_t samples = 0, rays = 0;
+  int spp = 0;                // samples per pixel actually rendered
+  uint64_t nan_samples = 0;   // non-finite samples caught (not splatted)
+  std::vector<NaNReport> nan_pixels;  // the first few, for debugging
+  size_t scene_bytes = 0;
+  size_t peak_rss_bytes = 0;
+  double samples_per_second() const { return seconds > 0 ? double(samples) / seconds : 0; }
+  double rays_per_second() const { return seconds > 0 ? double(rays) / seconds : 0; }
+  std::string summary() const;
+};
+
+struct RenderResult {
+  int width = 0, height = 0;
+  std::vector<float> rgba;    // working space, premultiplied alpha, row-major top-down
+  std::vector<float> albedo;  // 3 per pixel
+  std::vector<float> normal;  // 3 per pixel, world-space shading normal
+  std::vector<float> depth;   // camera-space depth (inf where nothing was hit)
+  RenderStats stats;
+};
+
+RenderResult render(const CompiledScene& scene, const RenderSettings& settings);
+
+/// Peak resident memory of this process (bytes).
+size_t peak_rss_bytes();
+
+}  // namespace kauri

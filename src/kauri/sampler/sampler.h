@@ -1,0 +1,44 @@
+// Per-pixel sample streams. The Sampler is plain data; a path asks it for the
+// next 1D or 2D value and the sampler tracks the dimension.
+#pragma once
+
+#include "kauri/sampler/rng.h"
+#include "kauri/sampler/sobol.h"
+
+namespace kauri {
+
+enum class SamplerType : uint32_t { Independent = 0, Sobol = 1 };
+
+struct Sampler {
+  SamplerType type = SamplerType::Sobol;
+  uint64_t pixel_seed = 0;
+  uint32_t index = 0;
+  uint32_t dimension = 0;
+  PCG32 rng;
+
+  /// Starts sample `index` of pixel (px, py). `seed` decorrelates whole renders.
+  KAURI_HOST_DEVICE void start_pixel_sample(int px, int py, uint32_t sample_index, uint64_t seed) {
+    pixel_seed = hash4(uint64_t(uint32_t(px)), uint64_t(uint32_t(py)), seed, 0x6b617572u);
+    index = sample_index;
+    dimension = 0;
+    if (type == SamplerType::Independent) rng.set_sequence(pixel_seed, mix_bits(sample_index + 1));
+  }
+  KAURI_HOST_DEVICE Float get_1d() {
+    if (type == SamplerType::Independent) return rng.next_float();
+    return owen_sobol_sample(index, dimension++, pixel_seed);
+  }
+  /// 2D values always start on an even dimension so the pair is a stratified 2D set.
+  KAURI_HOST_DEVICE Vec2 get_2d() {
+    if (type == SamplerType::Independent) {
+      Float a = rng.next_float();
+      return {a, rng.next_float()};
+    }
+    dimension += dimension & 1;
+    Float a = owen_sobol_sample(index, dimension, pixel_seed);
+    Float b = owen_sobol_sample(index, dimension + 1, pixel_seed);
+    dimension += 2;
+    return {a, b};
+  }
+};
+
+}  // namespace kauri

@@ -1,0 +1,182 @@
+// Warping functions from [0,1)^n to common domains, with their densities.
+// Every routine here has a chi-square test in tests/cpp/test_sampling.cpp.
+#pragma once
+
+#include "kauri/core/math.h"
+
+namespace kauri {
+
+/// Concentric square → disk mapping (Shirley & Chiu 1997): low distortion keeps strata.
+KAURI_HOST_DEVICE inline Vec2 sample_uniform_disk(Vec2 u) {
+  Float a = 2 * u.x - 1, b = 2 * u.y - 1;
+  if (a == 0 && b == 0) return {0, 0};
+  Float r, theta;
+  if (std::fabs(a) > std::fabs(b)) {
+    r = a;
+    theta = kPiOver4 * (b / a);
+  } else {
+    r = b;
+    theta = kPiOver2 - kPiOver4 * (a / b);
+  }
+  return {r * std::cos(theta), r * std::sin(theta)};
+}
+
+/// Malley's method: cosine-weighted hemisphere around +z, pdf = cosθ/π.
+KAURI_HOST_DEVICE inline Vec3 sample_cosine_hemisphere(Vec2 u) {
+  Vec2 d = sample_uniform_disk(u);
+  return {d.x, d.y, safe_sqrt(1 - d.x * d.x - d.y * d.y)};
+}
+KAURI_HOST_DEVICE inline Float cosine_hemisphere_pdf(Float cos_theta) { return fmax_(cos_theta, 0) * kInvPi; }
+
+KAURI_HOST_DEVICE inline Vec3 sample_uniform_sphere(Vec2 u) {
+  Float z = 1 - 2 * u.x;
+  Float r = safe_sqrt(1 - z * z);
+  Float phi = 2 * kPi * u.y;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+KAURI_HOST_DEVICE inline Float uniform_sphere_pdf() { return kInv4Pi; }
+
+/// Uniform direction in the cone of half-angle acos(cos_max) around +z.
+KAURI_HOST_DEVICE inline Vec3 sample_uniform_cone(Vec2 u, Float cos_max) {
+  Float cos_t = (1 - u.x) + u.x * cos_max;
+  Float sin_t = safe_sqrt(1 - cos_t * cos_t);
+  Float phi = 2 * kPi * u.y;
+  return {sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t};
+}
+KAURI_HOST_DEVICE inline Float uniform_cone_pdf(Float cos_max) { return 1 / (2 * kPi * (1 - cos_max)); }
+
+/// Uniform barycentrics (b0, b1) on a triangle (Heitz 2019, "A low-distortion map
+/// between triangle and square"); b2 = 1 - b0 - b1.
+KAURI_HOST_DEVICE inline Vec2 sample_uniform_triangle(Vec2 u) {
+  Float b0, b1;
+  if (u.x < u.y) {
+    b0 = u.x / 2;
+    b1 = u.y - b0;
+  } else {
+    b1 = u.y / 2;
+    b0 = u.x - b1;
+  }
+  return {b0, b1};
+}
+
+/// Inverse error function, single precision (Giles 2010, "Approximating the erfinv function").
+KAURI_HOST_DEVICE inline Float erf_inv(Float x) {
+  Float w = -std::log(fmax_((1 - x) * (1 + x), 1e-30f));
+  Float p;
+  if (w < 5) {
+    w = w - 2.5f;
+    p = 2.81022636e-08f;
+    p = 3.43273939e-07f + p * w;
+    p = -3.5233877e-06f + p * w;
+    p = -4.39150654e-06f + p * w;
+    p = 0.00021858087f + p * w;
+    p = -0.00125372503f + p * w;
+    p = -0.00417768164f + p * w;
+    p = 0.246640727f + p * w;
+    p = 1.50140941f + p * w;
+  } else {
+    w = std::sqrt(w) - 3;
+    p = -0.000200214257f;
+    p = 0.000100950558f + p * w;
+    p = 0.00134934322f + p * w;
+    p = -0.00367342844f + p * w;
+    p = 0.00573950773f + p * w;
+    p = -0.0076224613f + p * w;
+    p = 0.00943887047f + p * w;
+    p = 1.00167406f + p * w;
+    p = 2.83297682f + p * w;
+  }
+  return p * x;
+}
+
+/// Gaussian of std-dev `sigma` truncated to [-r, r], sampled exactly by inverting its CDF.
+KAURI_HOST_DEVICE inline Float sample_truncated_gaussian(Float u, Float sigma, Float r) {
+  Float k = 1 / (sigma * 1.41421356f);
+  Float e = std::erf(r * k);
+  Float x = erf_inv(clamp((2 * u - 1) * e, -kOneMinusEpsilon, kOneMinusEpsilon)) / k;
+  return clamp(x, -r, r);
+}
+KAURI_HOST_DEVICE inline Float truncated_gaussian_pdf(Float x, Float sigma, Float r) {
+  if (std::fabs(x) > r) return 0;
+  Float norm = std::erf(r / (sigma * 1.41421356f));
+  return std::exp(-x * x / (2 * sigma * sigma)) / (sigma * 2.50662827f * norm);
+}
+
+/// Index of the last cdf entry <= u among cdf[0..n] (cdf[0] = 0, cdf[n] = 1).
+KAURI_HOST_DEVICE inline int find_interval(const Float* cdf, int n, Float u) {
+  int lo = 0, hi = n;  // invariant: cdf[lo] <= u < cdf[hi]
+  while (hi - lo > 1) {
+    int mid = (lo + hi) / 2;
+    if (cdf[mid] <= u) lo = mid; else hi = mid;
+  }
+  return lo;
+}
+
+/// Piecewise-constant 1D density on [0,1) over n bins; a view over host-owned arrays.
+struct Distribution1D {
+  const Float* func = nullptr;  // n non-negative values
+  const Float* cdf = nullptr;   // n + 1 values
+  int n = 0;
+  Float integral = 0;           // ∫ func over [0,1)
+
+  /// Continuous sample in [0,1); returns its pdf and the bin.
+  KAURI_HOST_DEVICE Float sample_continuous(Float u, Float* pdf, int* bin) const {
+    int i = find_interval(cdf, n, u);
+    Float width = cdf[i + 1] - cdf[i];
+    Float du = width > 0 ? (u - cdf[i]) / width : Float(0.5);
+    if (pdf) *pdf = integral > 0 ? func[i] / integral : 0;
+    if (bin) *bin = i;
+    return fmin_((Float(i) + du) / Float(n), kOneMinusEpsilon);
+  }
+  /// Discrete sample: bin i with probability func[i]·(1/n)/integral. `u_remapped` gets
+  /// u rescaled to [0,1) within the bin, so one number can drive a further choice.
+  KAURI_HOST_DEVICE int sample_discrete(Float u, Float* pmf, Float* u_remapped = nullptr) const {
+    int i = find_interval(cdf, n, u);
+    if (pmf) *pmf = discrete_pmf(i);
+    if (u_remapped) {
+      Float width = cdf[i + 1] - cdf[i];
+      *u_remapped = width > 0 ? fmin_((u - cdf[i]) / width, kOneMinusEpsilon) : Float(0);
+    }
+    return i;
+  }
+  KAURI_HOST_DEVICE Float discrete_pmf(int i) const {
+    return integral > 0 ? func[i] / (integral * Float(n)) : 0;
+  }
+  KAURI_HOST_DEVICE Float pdf(Float x) const {
+    int i = int(x * Float(n));
+    i = i < 0 ? 0 : (i >= n ? n - 1 : i);
+    return integral > 0 ? func[i] / integral : 0;
+  }
+};
+
+/// Piecewise-constant 2D density on [0,1)^2: a marginal over rows (v) and one
+/// conditional per row (u). Views over host-owned arrays.
+struct Distribution2D {
+  const Distribution1D* conditional = nullptr;  // nv rows
+  Distribution1D marginal;
+  int nu = 0, nv = 0;
+
+  KAURI_HOST_DEVICE Vec2 sample(Vec2 u, Float* pdf) const {
+    Float pdf_v, pdf_u;
+    int v;
+    Float y = marginal.sample_continuous(u.y, &pdf_v, &v);
+    Float x = conditional[v].sample_continuous(u.x, &pdf_u, nullptr);
+    *pdf = pdf_v * pdf_u;
+    return {x, y};
+  }
+  KAURI_HOST_DEVICE Float pdf(Vec2 p) const {
+    int iu = int(p.x * Float(nu)), iv = int(p.y * Float(nv));
+    iu = iu < 0 ? 0 : (iu >= nu ? nu - 1 : iu);
+    iv = iv < 0 ? 0 : (iv >= nv ? nv - 1 : iv);
+    return marginal.integral > 0 ? conditional[iv].func[iu] / marginal.integral : 0;
+  }
+};
+
+/// Power heuristic with β = 2 (Veach 1997, eq. 9.13).
+KAURI_HOST_DEVICE inline Float power_heuristic(Float pdf_a, Float pdf_b) {
+  Float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  if (!(a < kInfinity)) return 1;
+  return a + b > 0 ? a / (a + b) : 0;
+}
+
+}  // namespace kauri

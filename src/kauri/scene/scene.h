@@ -1,0 +1,184 @@
+// Host scene description: what the Python API and (later) scene parsers build.
+// Every add_* validates its input and throws std::invalid_argument with a
+// message naming the object and parameter; compile() turns the description into
+// a CompiledScene whose SceneView is plain data for render-time code.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "kauri/accel/embree_accel.h"
+#include "kauri/sampler/distribution.h"
+#include "kauri/scene/scene_view.h"
+#include "kauri/spectral/color_space.h"
+
+namespace kauri {
+
+/// Emission of an area light (or a light's colour): RGB in the working space, or a
+/// blackbody temperature (K) scaled to luminance `intensity`.
+struct EmissionDesc {
+  Vec3 rgb{1, 1, 1};
+  Float temperature = 0;  // > 0 selects a blackbody
+  Float intensity = 1;
+  bool two_sided = false;
+};
+
+struct MaterialDesc {
+  std::string name;
+  LobeType type = LobeType::Lambert;
+  Vec3 albedo{0.8f, 0.8f, 0.8f};   // Lambert
+  Float ior = 1.5f, abbe = 0;      // dielectric
+  std::string metal;               // conductor: measured IOR by name, or
+  Vec3 eta_rgb{0, 0, 0}, k_rgb{0, 0, 0};  // conductor: RGB η, κ (used when metal is empty)
+  Float roughness = 0.3f, anisotropy = 0;
+};
+
+struct MeshDesc {
+  std::string name;
+  std::vector<float> positions;   // 3 per vertex
+  std::vector<uint32_t> indices;  // face_size per face
+  int face_size = 3;              // 3 (triangles) or 4 (quads, split into two triangles)
+  std::vector<float> normals;     // optional, 3 per vertex
+  std::vector<float> uvs;         // optional, 2 per vertex
+  int material = -1;
+  bool emissive = false;
+  EmissionDesc emission;
+};
+
+struct SphereDesc {
+  std::string name;
+  Point3 center;
+  Float radius = 1;
+  int material = -1;
+  bool emissive = false;
+  EmissionDesc emission;
+};
+
+struct DiskDesc {
+  std::string name;
+  Point3 center;
+  Normal3 normal{0, 1, 0};
+  Float radius = 1;
+  int material = -1;
+  bool emissive = false;
+  EmissionDesc emission;
+};
+
+struct LightDesc {
+  std::string name;
+  LightType type = LightType::Point;
+  Point3 position;
+  Vec3 direction{0, -1, 0};       // spot axis / direction light travels (distant)
+  EmissionDesc emission;
+  Float cone_angle = 30, cone_softness = 5;  // spot, degrees
+  Float angle = 0;                // distant: angular diameter in degrees (0.53 for the sun)
+  std::vector<float> image;       // environment: height × width × 3 RGB
+  int width = 0, height = 0;
+  double rotation[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};  // environment orientation
+};
+
+struct CameraDesc {
+  CameraType type = CameraType::Perspective;
+  Point3 eye{0, 0, 5}, target{0, 0, 0};
+  Vec3 up{0, 1, 0};
+  Float fov = 40;          // degrees along fov_axis (perspective)
+  char fov_axis = 'x';
+  Float ortho_width = 2;   // world units across x (orthographic)
+  Float aperture_radius = 0, focus_distance = 0;  // 0 focus = distance to target
+};
+
+class CompiledScene;
+
+class Scene {
+ public:
+  Scene();
+  void set_color_space(ColorSpaceId id) { color_space_ = id; }
+  ColorSpaceId color_space_id() const { return color_space_; }
+
+  int add_material(const MaterialDesc& m);
+  int add_group(const std::string& name);  // a prototype for instancing; returns its id (≥ 1)
+  int add_instance(const std::string& name, int group, const double xf[3][4]);
+  int add_mesh(int group, MeshDesc m);
+  int add_sphere(int group, const SphereDesc& s);
+  int add_disk(int group, const DiskDesc& d);
+  int add_light(const LightDesc& l);
+  void set_camera(const CameraDesc& c);
+
+  /// Builds the render-time scene for an image of width × height pixels.
+  std::unique_ptr<CompiledScene> compile(int width, int height) const;
+
+  size_t material_count() const { return materials_.size(); }
+
+ private:
+  struct Shape {
+    ShapeType type;
+    std::string name;
+    MeshDesc mesh;  // geometry for meshes; name/material/emission for all
+    SphereDesc sphere;
+    DiskDesc disk;
+    int material = -1;
+    bool emissive = false;
+    EmissionDesc emission;
+  };
+  struct Group {
+    std::string name;
+    std::vector<Shape> shapes;
+  };
+  struct Instance {
+    std::string name;
+    int group;
+    Transform xf;
+  };
+  void check_group(int group, const std::string& what) const;
+  void check_material(int material, const std::string& what) const;
+
+  friend class CompiledScene;
+  ColorSpaceId color_space_ = ColorSpaceId::ACEScg;
+  std::vector<MaterialDesc> materials_;
+  std::vector<Group> groups_;
+  std::vector<Instance> instances_;
+  std::vector<LightDesc> lights_;
+  CameraDesc camera_;
+  bool has_camera_ = false;
+};
+
+/// Render-ready scene: owns every array the SceneView points into.
+class CompiledScene {
+ public:
+  const SceneView& view() const { return view_; }
+  const EmbreeAccel& accel() const { return accel_; }
+  size_t bytes() const { return bytes_; }
+  int light_count() const { return view_.n_lights; }
+
+ private:
+  friend class Scene;
+  void build_lights(const Scene& scene, const RGBColorSpace& cs);
+  void add_shape_lights(const Scene::Shape& s, const Transform* xf, const RGBColorSpace& cs);
+
+  EmbreeAccel accel_;
+  SceneView view_;
+  std::vector<std::vector<ShapeView>> shape_views_;
+  std::vector<GroupView> group_views_;
+  std::vector<InstanceView> instance_views_;
+  std::vector<int> emitter_first_light_;
+  std::vector<MaterialView> materials_;
+  std::vector<LobeParams> lobes_;
+  std::vector<Float> lobe_weights_;
+  std::vector<Light> lights_;
+  std::vector<int> infinite_lights_;
+  std::vector<std::vector<EnvTexel>> env_texels_;
+  std::vector<std::unique_ptr<Distribution2DStorage>> env_distributions_;
+  Distribution1DStorage light_distribution_;
+  struct MeshArrays {
+    std::vector<Point3> p;  // plus one padding vertex (Embree reads 16 bytes)
+    std::vector<Normal3> n;
+    std::vector<Vec2> uv;
+    std::vector<uint32_t> index;
+  };
+  std::vector<std::unique_ptr<MeshArrays>> meshes_;
+  size_t bytes_ = 0;
+};
+
+}  // namespace kauri

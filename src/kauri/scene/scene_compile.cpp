@@ -1,0 +1,319 @@
+// Scene::compile: description → render-ready arrays, lights and Embree scenes.
+#include <cmath>
+#include <stdexcept>
+
+#include "kauri/scene/scene.h"
+
+namespace kauri {
+
+namespace {
+
+Float luminance(const Spectrum& s) { return fmax_(spectrum_to_y(s), 0); }
+
+Spectrum emission_of(const EmissionDesc& e, const RGBColorSpace& cs) {
+  if (e.temperature > 0) {
+    Spectrum bb = Spectrum::make_blackbody(e.temperature, 1);
+    Float y = spectrum_to_y(bb);
+    return Spectrum::make_blackbody(e.temperature, y > 0 ? e.intensity / y : 0);
+  }
+  Spectrum s = rgb_illuminant(cs, e.rgb);
+  if (s.type == SpectrumType::RGBIlluminant || s.type == SpectrumType::RGBUnbounded) s.rgb.scale *= e.intensity;
+  else if (s.type == SpectrumType::Constant) s.constant *= e.intensity;
+  return s;
+}
+
+LobeParams lobe_params(const MaterialDesc& m, const RGBColorSpace& cs) {
+  LobeParams p;
+  p.type = m.type;
+  switch (m.type) {
+    case LobeType::Lambert: p.a = rgb_albedo(cs, m.albedo); break;
+    case LobeType::SmoothDielectric: p.ior = CauchyIOR::from_abbe(m.ior, m.abbe); break;
+    case LobeType::GGXConductor: {
+      if (!m.metal.empty()) {
+        const tables::MetalIOR* metal = tables::find_metal(m.metal);
+        p.a = Spectrum::make_dense(metal_eta(*metal));
+        p.b = Spectrum::make_dense(metal_k(*metal));
+      } else {
+        p.a = rgb_unbounded(cs, m.eta_rgb);
+        p.b = rgb_unbounded(cs, m.k_rgb);
+      }
+      // Anisotropy stretches α along the tangent, shrinks it along the bitangent
+      // (the usual artist mapping; α = roughness²).
+      Float alpha = GGXDistribution::roughness_to_alpha(m.roughness);
+      Float aspect = std::sqrt(1 - 0.9f * std::fabs(m.anisotropy));
+      p.alpha_x = m.anisotropy >= 0 ? alpha / aspect : alpha * aspect;
+      p.alpha_y = m.anisotropy >= 0 ? alpha * aspect : alpha / aspect;
+      break;
+    }
+  }
+  return p;
+}
+
+}  // namespace
+
+void CompiledScene::add_shape_lights(const Scene::Shape& s, const Transform* xf, const RGBColorSpace& cs) {
+  Light base;
+  base.Le = emission_of(s.emission, cs);
+  base.two_sided = s.emission.two_sided;
+  auto P = [&](Point3 p) { return xf ? xf->point(p) : p; };
+  switch (s.type) {
+    case ShapeType::Mesh: {
+      const MeshDesc& m = s.mesh;
+      for (size_t f = 0; f < m.indices.size(); f += 3) {
+        auto V = [&](uint32_t i) { return P(Point3{m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]}); };
+        Light l = base;
+        l.type = LightType::Triangle;
+        l.p0 = V(m.indices[f]);
+        l.p1 = V(m.indices[f + 1]);
+        l.p2 = V(m.indices[f + 2]);
+        Vec3 c = cross(l.p1 - l.p0, l.p2 - l.p0);
+        l.area = length(c) / 2;
+        // Degenerate triangles keep their slot (light = first + primID) but get zero power.
+        l.n = l.area > 0 ? normalize(c) : Vec3{0, 0, 1};
+        lights_.push_back(l);
+      }
+      break;
+    }
+    case ShapeType::Sphere: {
+      Light l = base;
+      l.type = LightType::Sphere;
+      l.p0 = P(s.sphere.center);
+      Float scale = xf ? std::cbrt(std::fabs(length(xf->vector({1, 0, 0})) * length(xf->vector({0, 1, 0})) *
+                                             length(xf->vector({0, 0, 1}))))
+                       : Float(1);
+      l.radius = s.sphere.radius * scale;
+      l.area = 4 * kPi * l.radius * l.radius;
+      lights_.push_back(l);
+      break;
+    }
+    case ShapeType::Disk: {
+      Light l = base;
+      l.type = LightType::Disk;
+      l.p0 = P(s.disk.center);
+      l.n = xf ? normalize(xf->normal(s.disk.normal)) : s.disk.normal;
+      Float scale = xf ? length(xf->vector(Frame::from_z(s.disk.normal).x)) : Float(1);
+      l.radius = s.disk.radius * scale;
+      l.area = kPi * l.radius * l.radius;
+      l.frame = Frame::from_z(l.n);
+      lights_.push_back(l);
+      break;
+    }
+  }
+}
+
+void CompiledScene::build_lights(const Scene& scene, const RGBColorSpace& cs) {
+  for (const LightDesc& d : scene.lights_) {
+    Light l;
+    l.type = d.type;
+    l.Le = emission_of(d.emission, cs);
+    l.p0 = d.position;
+    l.n = d.direction;
+    switch (d.type) {
+      case LightType::Spot: {
+        Float outer = d.cone_angle * kPi / 180, inner = (d.cone_angle - d.cone_softness) * kPi / 180;
+        l.cos_outer = std::cos(outer);
+        l.cos_inner = std::cos(fmax_(inner, 0));
+        l.frame = Frame::from_z(l.n);
+        break;
+      }
+      case LightType::Distant:
+        l.cos_max = d.angle > 0 ? std::cos(d.angle * kPi / 360) : Float(1);
+        l.frame = Frame::from_z(-l.n);
+        break;
+      case LightType::EnvMap: {
+        Transform rot;
+        if (!make_transform(d.rotation, &rot)) throw std::invalid_argument("light '" + d.name + "': parameter 'rotation': is singular");
+        l.frame.x = normalize(rot.vector({1, 0, 0}));
+        l.frame.y = normalize(rot.vector({0, 1, 0}));
+        l.frame.z = normalize(rot.vector({0, 0, 1}));
+        const int w = d.width, h = d.height;
+        std::vector<EnvTexel> texels(size_t(w) * size_t(h));
+        std::vector<Float> weight(texels.size());
+        for (int y = 0; y < h; ++y) {
+          Float sin_theta = std::sin(kPi * (Float(y) + 0.5f) / Float(h));
+          for (int x = 0; x < w; ++x) {
+            size_t i = size_t(y) * size_t(w) + size_t(x);
+            Vec3 rgb{d.image[3 * i], d.image[3 * i + 1], d.image[3 * i + 2]};
+            Spectrum s = emission_of(EmissionDesc{rgb, 0, d.emission.intensity, false}, cs);
+            EnvTexel t{0, 0, 0, 0};
+            if (s.type == SpectrumType::RGBIlluminant) t = {s.rgb.scale, s.rgb.poly.c0, s.rgb.poly.c1, s.rgb.poly.c2};
+            texels[i] = t;
+            // Importance ∝ texel luminance × sinθ (the lat-long area element), so
+            // the solid-angle density follows radiance.
+            weight[i] = fmax_(cs.to_xyz(rgb).y, 0) * sin_theta;
+          }
+        }
+        env_distributions_.push_back(std::make_unique<Distribution2DStorage>(weight, w, h));
+        l.distribution = env_distributions_.back()->view();
+        l.width = w;
+        l.height = h;
+        l.illuminant = *cs.illuminant;
+        env_texels_.push_back(std::move(texels));
+        l.texels = env_texels_.back().data();
+        bytes_ += env_texels_.back().size() * sizeof(EnvTexel) + env_distributions_.back()->bytes();
+        break;
+      }
+      default: break;
+    }
+    lights_.push_back(l);
+  }
+}
+
+std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("render: parameter 'resolution': must be positive");
+  if (!has_camera_) throw std::invalid_argument("scene: no camera; call set_camera() first");
+  auto cs_ptr = &color_space(color_space_);
+  const RGBColorSpace& cs = *cs_ptr;
+  auto out = std::unique_ptr<CompiledScene>(new CompiledScene());
+  CompiledScene& c = *out;
+
+  // Materials: one lobe each today, weight 1 (see bsdf/material.h).
+  for (const MaterialDesc& m : materials_) {
+    c.materials_.push_back(MaterialView{int(c.lobes_.size()), 1});
+    c.lobes_.push_back(lobe_params(m, cs));
+    c.lobe_weights_.push_back(1);
+  }
+
+  // Geometry, group by group.
+  c.shape_views_.resize(groups_.size());
+  for (size_t g = 0; g < groups_.size(); ++g) {
+    for (const Shape& s : groups_[g].shapes) {
+      ShapeView v;
+      v.type = s.type;
+      v.material = s.material;
+      if (s.type == ShapeType::Mesh) {
+        auto arrays = std::make_unique<CompiledScene::MeshArrays>();
+        const MeshDesc& m = s.mesh;
+        size_t nv = m.positions.size() / 3;
+        arrays->p.resize(nv + 1);
+        for (size_t i = 0; i < nv; ++i) arrays->p[i] = {m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]};
+        if (!m.normals.empty()) {
+          arrays->n.resize(nv);
+          for (size_t i = 0; i < nv; ++i) arrays->n[i] = {m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2]};
+        }
+        if (!m.uvs.empty()) {
+          arrays->uv.resize(nv);
+          for (size_t i = 0; i < nv; ++i) arrays->uv[i] = {m.uvs[2 * i], m.uvs[2 * i + 1]};
+        }
+        arrays->index = m.indices;
+        v.mesh = {arrays->p.data(), arrays->n.empty() ? nullptr : arrays->n.data(),
+                  arrays->uv.empty() ? nullptr : arrays->uv.data(), arrays->index.data(),
+                  uint32_t(m.indices.size() / 3), uint32_t(nv)};
+        c.bytes_ += arrays->p.size() * sizeof(Point3) + arrays->n.size() * sizeof(Normal3) +
+                    arrays->uv.size() * sizeof(Vec2) + arrays->index.size() * sizeof(uint32_t);
+        c.meshes_.push_back(std::move(arrays));
+      } else if (s.type == ShapeType::Sphere) {
+        v.sphere = {s.sphere.center, s.sphere.radius};
+      } else {
+        v.disk = {s.disk.center, s.disk.normal, s.disk.radius};
+      }
+      c.shape_views_[g].push_back(v);
+    }
+  }
+
+  // Instances (instance 0 = the root group) and the emitters each of them places.
+  std::vector<int> inst_groups;
+  std::vector<Transform> inst_xf;
+  c.instance_views_.push_back(InstanceView{0, 0, true, Transform{}});
+  for (const Instance& inst : instances_) {
+    inst_groups.push_back(inst.group);
+    inst_xf.push_back(inst.xf);
+  }
+  int slot = 0;
+  for (size_t k = 0; k < inst_groups.size() + 1; ++k) {
+    int g = k == 0 ? 0 : inst_groups[k - 1];
+    if (k > 0) c.instance_views_.push_back(InstanceView{g, slot, false, inst_xf[k - 1]});
+    const Transform* xf = k == 0 ? nullptr : &inst_xf[k - 1];
+    for (const Shape& s : groups_[size_t(g)].shapes) {
+      if (s.emissive) {
+        c.emitter_first_light_.push_back(int(c.lights_.size()));
+        c.add_shape_lights(s, xf, cs);
+      } else {
+        c.emitter_first_light_.push_back(-1);
+      }
+    }
+    slot += int(groups_[size_t(g)].shapes.size());
+  }
+
+  c.accel_.build(c.shape_views_, inst_groups, inst_xf);
+  Point3 center;
+  Float radius;
+  c.accel_.bounds().bounding_sphere(&center, &radius);
+  if (!(radius > 0)) radius = 1;
+
+  c.build_lights(*this, cs);
+  std::vector<Float> power(c.lights_.size());
+  for (size_t i = 0; i < c.lights_.size(); ++i) {
+    Light& l = c.lights_[i];
+    l.scene_center = center;
+    l.scene_radius = radius;
+    if (l.is_infinite()) c.infinite_lights_.push_back(int(i));
+    Float y = luminance(l.Le);
+    switch (l.type) {
+      case LightType::Point: power[i] = 4 * kPi * y; break;
+      case LightType::Spot: power[i] = 2 * kPi * (1 - (l.cos_inner + l.cos_outer) / 2) * y; break;
+      case LightType::Distant: power[i] = kPi * radius * radius * y; break;
+      case LightType::Triangle:
+      case LightType::Sphere:
+      case LightType::Disk: power[i] = y * l.area * kPi * (l.two_sided ? 2 : 1); break;
+      case LightType::EnvConstant: power[i] = 4 * kPi * kPi * radius * radius * y; break;
+      case LightType::EnvMap: {
+        // Mean radiance over the sphere: (1/4π)∫L dω = (π/2)∫∫ L sinθ du dv, the
+        // integral of the sampling weights times π/2 (intensity scales it via y).
+        power[i] = 4 * kPi * kPi * radius * radius * fmax_(l.distribution.marginal.integral, 0) * (kPi / 2) * y;
+        break;
+      }
+    }
+    if (!std::isfinite(power[i]) || power[i] < 0) power[i] = 0;
+  }
+  if (!c.lights_.empty()) {
+    Float total = 0;
+    for (Float p : power) total += p;
+    if (total > 0) c.light_distribution_ = Distribution1DStorage(power);
+  }
+
+  // Camera.
+  Camera cam;
+  cam.type = camera_.type;
+  cam.width = width;
+  cam.height = height;
+  cam.camera_to_world = look_at(camera_.eye, camera_.target, camera_.up);
+  Float aspect = Float(width) / Float(height);
+  if (camera_.type == CameraType::Perspective) {
+    Float t = std::tan(camera_.fov * kPi / 360);
+    cam.tan_half_x = camera_.fov_axis == 'x' ? t : t * aspect;
+    cam.tan_half_y = camera_.fov_axis == 'x' ? t / aspect : t;
+  } else {
+    cam.half_w = camera_.ortho_width / 2;
+    cam.half_h = cam.half_w / aspect;
+  }
+  cam.lens_radius = camera_.aperture_radius;
+  cam.focus_distance = camera_.focus_distance > 0 ? camera_.focus_distance : distance(camera_.eye, camera_.target);
+
+  // Views.
+  for (const auto& sv : c.shape_views_) c.group_views_.push_back(GroupView{sv.data(), int(sv.size())});
+  SceneView& v = c.view_;
+  v.groups = c.group_views_.data();
+  v.instances = c.instance_views_.data();
+  v.n_instances = int(c.instance_views_.size());
+  v.n_root_shapes = int(c.shape_views_[0].size());
+  v.emitter_first_light = c.emitter_first_light_.data();
+  v.materials = c.materials_.data();
+  v.lobes = c.lobes_.data();
+  v.lobe_weights = c.lobe_weights_.data();
+  v.lights = c.lights_.data();
+  v.n_lights = c.light_distribution_.integral() > 0 ? int(c.lights_.size()) : 0;
+  v.light_distribution = c.light_distribution_.view();
+  v.infinite_lights = c.infinite_lights_.data();
+  v.n_infinite_lights = int(c.infinite_lights_.size());
+  v.camera = cam;
+  v.illuminant = Spectrum::make_dense(*cs.illuminant);
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) v.xyz_to_rgb[r][k] = cs.xyz_to_rgb[r][k];
+  c.bytes_ += c.lights_.size() * sizeof(Light) + c.lobes_.size() * sizeof(LobeParams) +
+              c.emitter_first_light_.size() * sizeof(int) + c.light_distribution_.bytes();
+  (void)cs_ptr;
+  return out;
+}
+
+}  // namespace kauri

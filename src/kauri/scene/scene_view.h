@@ -1,0 +1,80 @@
+// SceneView: the compiled scene as plain data (pointers into host-owned arrays),
+// everything render-time code needs besides the ray-query accelerator.
+#pragma once
+
+#include "kauri/bsdf/material.h"
+#include "kauri/camera/camera.h"
+#include "kauri/geometry/shapes.h"
+#include "kauri/light/light.h"
+
+namespace kauri {
+
+struct GroupView {
+  const ShapeView* shapes = nullptr;
+  int n_shapes = 0;
+};
+
+/// Placement of a group. Instance 0 is the root group with the identity.
+struct InstanceView {
+  int group = 0;
+  int shape_slot_base = 0;  // index into SceneView::emitter_first_light
+  bool identity = true;
+  Transform xf;
+};
+
+struct SceneView {
+  const GroupView* groups = nullptr;
+  const InstanceView* instances = nullptr;
+  int n_instances = 0;
+  int n_root_shapes = 0;                  // top-level geometry ids below this are root shapes
+  const int* emitter_first_light = nullptr;  // per (instance, shape) slot, −1 if not emissive
+
+  const MaterialView* materials = nullptr;
+  const LobeParams* lobes = nullptr;
+  const Float* lobe_weights = nullptr;
+
+  const Light* lights = nullptr;
+  int n_lights = 0;
+  Distribution1D light_distribution;      // light selection ∝ power
+  const int* infinite_lights = nullptr;
+  int n_infinite_lights = 0;
+
+  Camera camera;
+  Spectrum illuminant;                    // working-space white, Y = 1 (albedo AOV)
+  Float xyz_to_rgb[3][3];                 // XYZ → working space
+
+  KAURI_HOST_DEVICE Vec3 to_rgb(Vec3 xyz) const {
+    return {xyz_to_rgb[0][0] * xyz.x + xyz_to_rgb[0][1] * xyz.y + xyz_to_rgb[0][2] * xyz.z,
+            xyz_to_rgb[1][0] * xyz.x + xyz_to_rgb[1][1] * xyz.y + xyz_to_rgb[1][2] * xyz.z,
+            xyz_to_rgb[2][0] * xyz.x + xyz_to_rgb[2][1] * xyz.y + xyz_to_rgb[2][2] * xyz.z};
+  }
+  KAURI_HOST_DEVICE Float light_pmf(int light) const { return light_distribution.discrete_pmf(light); }
+};
+
+/// Turns an accelerator hit into world-space surface geometry.
+KAURI_HOST_DEVICE inline SurfaceHit compute_surface_hit(const SceneView& s, const Ray& ray, const HitRecord& h) {
+  SurfaceHit sh;
+  int inst = h.inst == ~0u ? 0 : int(h.inst) - s.n_root_shapes + 1;
+  const InstanceView& I = s.instances[inst];
+  const ShapeView& shape = s.groups[I.group].shapes[h.geom];
+  Ray r = ray;
+  if (!I.identity) r = Ray{I.xf.inverse_point(ray.o), I.xf.inverse_vector(ray.d), ray.tmax};
+  switch (shape.type) {
+    case ShapeType::Mesh: triangle_hit(shape.mesh, h.prim, h.u, h.v, &sh); break;
+    case ShapeType::Sphere: sphere_hit(shape.sphere, r, h.t, &sh); break;
+    case ShapeType::Disk: disk_hit(shape.disk, r, h.t, &sh); break;
+  }
+  if (!I.identity) {
+    sh.p = I.xf.point(sh.p);
+    sh.ng = normalize(I.xf.normal(sh.ng));
+    sh.ns = normalize(I.xf.normal(sh.ns));
+    sh.dpdu = I.xf.vector(sh.dpdu);
+  }
+  sh.t = h.t;
+  sh.material = shape.material;
+  int first = s.emitter_first_light[I.shape_slot_base + int(h.geom)];
+  sh.light = first < 0 ? -1 : first + (shape.type == ShapeType::Mesh ? int(h.prim) : 0);
+  return sh;
+}
+
+}  // namespace kauri

@@ -1,0 +1,174 @@
+// Spectral distributions evaluated at the path's wavelengths. A tagged union with
+// switch dispatch (no virtuals) so the same code can run on a GPU later.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "kauri/core/math.h"
+#include "kauri/spectral/rgb_to_spectrum.h"
+#include "kauri/spectral/sampled.h"
+#include "kauri/spectral/spectral_tables.h"
+
+namespace kauri {
+
+/// Tabulated spectrum on a uniform grid; linear interpolation, 0 outside the grid.
+struct DenselySampled {
+  const float* values;
+  Float lambda_min;
+  Float step;
+  int count;
+
+  KAURI_HOST_DEVICE Float operator()(Float lambda) const {
+    Float t = (lambda - lambda_min) / step;
+    if (!(t >= 0) || t > Float(count - 1)) return 0;
+    int i = t >= Float(count - 1) ? count - 2 : int(t);
+    return lerp(t - Float(i), values[i], values[i + 1]);
+  }
+};
+
+/// Planck's law B(lambda, T) in W sr^-1 m^-3 (lambda in nm, T in kelvin).
+KAURI_HOST_DEVICE inline Float planck(Float lambda_nm, Float temperature) {
+  const Float c = 299792458.f, h = 6.62606957e-34f, kb = 1.3806488e-23f;
+  Float l = lambda_nm * 1e-9f;
+  Float l5 = (l * l) * (l * l) * l;
+  return (2 * h * c * c) / (l5 * std::expm1((h * c) / (l * kb * temperature)));
+}
+
+/// Wien's displacement law: wavelength (nm) of the Planck peak.
+KAURI_HOST_DEVICE inline Float wien_peak_nm(Float temperature) { return 2.8977721e6f / temperature; }
+
+/// Planck's law divided by its peak value. Writing B(l)/B(l_max) with the peak
+/// condition h c / (l_max k T) = 4.965114 (root of x = 5 (1 - e^-x)) cancels every
+/// physical constant except the second radiation constant, so it stays well
+/// scaled in float for any T.
+KAURI_HOST_DEVICE inline Float blackbody_normalized(Float lambda_nm, Float temperature) {
+  if (!(temperature > 0) || !(lambda_nm > 0)) return 0;
+  const Float kWienX = 4.96511423f;
+  const Float kC2 = 1.438777e7f;  // h c / k_B in nm K
+  Float peak = wien_peak_nm(temperature);
+  Float r = peak / lambda_nm;
+  Float r5 = (r * r) * (r * r) * r;
+  return r5 * std::expm1(kWienX) / std::expm1(kC2 / (lambda_nm * temperature));
+}
+
+enum class SpectrumType : uint8_t { Constant, DenselySampled, RGBAlbedo, RGBUnbounded, RGBIlluminant, Blackbody };
+
+/// A spectral distribution. Build with the static factories; copyable POD.
+struct Spectrum {
+  struct RGBData {
+    SigmoidPolynomial poly;
+    Float scale;              // 1 for albedo
+    DenselySampled illuminant;  // used by RGBIlluminant only
+  };
+  struct BlackbodyData {
+    Float temperature;
+    Float scale;
+  };
+
+  SpectrumType type;
+  union {
+    Float constant;
+    DenselySampled dense;
+    RGBData rgb;
+    BlackbodyData blackbody;
+  };
+
+  /// Default: the zero spectrum.
+  KAURI_HOST_DEVICE Spectrum() : type(SpectrumType::Constant), constant(0) {}
+
+  KAURI_HOST_DEVICE static Spectrum make_constant(Float c) {
+    Spectrum s;
+    s.type = SpectrumType::Constant;
+    s.constant = c;
+    return s;
+  }
+  KAURI_HOST_DEVICE static Spectrum make_dense(DenselySampled d) {
+    Spectrum s;
+    s.type = SpectrumType::DenselySampled;
+    s.dense = d;
+    return s;
+  }
+  KAURI_HOST_DEVICE static Spectrum make_rgb_albedo(SigmoidPolynomial p) {
+    return make_rgb(SpectrumType::RGBAlbedo, p, 1, DenselySampled{nullptr, 0, 1, 0});
+  }
+  KAURI_HOST_DEVICE static Spectrum make_rgb_unbounded(SigmoidPolynomial p, Float scale) {
+    return make_rgb(SpectrumType::RGBUnbounded, p, scale, DenselySampled{nullptr, 0, 1, 0});
+  }
+  KAURI_HOST_DEVICE static Spectrum make_rgb_illuminant(SigmoidPolynomial p, Float scale,
+                                                        DenselySampled illuminant) {
+    return make_rgb(SpectrumType::RGBIlluminant, p, scale, illuminant);
+  }
+  /// Blackbody normalised to a peak of 1 (so `scale` is the peak value).
+  KAURI_HOST_DEVICE static Spectrum make_blackbody(Float temperature, Float scale = 1) {
+    Spectrum s;
+    s.type = SpectrumType::Blackbody;
+    s.blackbody = {temperature, scale};
+    return s;
+  }
+
+  KAURI_HOST_DEVICE Float operator()(Float lambda) const {
+    switch (type) {
+      case SpectrumType::Constant: return constant;
+      case SpectrumType::DenselySampled: return dense(lambda);
+      case SpectrumType::RGBAlbedo: return rgb.poly(lambda);
+      case SpectrumType::RGBUnbounded: return rgb.scale * rgb.poly(lambda);
+      case SpectrumType::RGBIlluminant: return rgb.scale * rgb.poly(lambda) * rgb.illuminant(lambda);
+      case SpectrumType::Blackbody:
+        return blackbody.scale * blackbody_normalized(lambda, blackbody.temperature);
+    }
+    return 0;
+  }
+
+  KAURI_HOST_DEVICE SampledSpectrum sample(const SampledWavelengths& w) const {
+    SampledSpectrum s;
+    for (int i = 0; i < kSpectrumSamples; ++i) s[i] = (*this)(w.lambda[i]);
+    return s;
+  }
+
+ private:
+  KAURI_HOST_DEVICE static Spectrum make_rgb(SpectrumType t, SigmoidPolynomial p, Float scale,
+                                             DenselySampled illuminant) {
+    Spectrum s;
+    s.type = t;
+    s.rgb = {p, scale, illuminant};
+    return s;
+  }
+};
+
+/// CIE 1931 CMFs at `lambda` by linear interpolation of the 1 nm tables (0 outside).
+KAURI_HOST_DEVICE inline Vec3 cie_xyz_bar(Float lambda) {
+  Float t = lambda - tables::kCieLambdaMin;
+  if (!(t >= 0) || t > Float(tables::kCieSamples - 1)) return {};
+  int i = t >= Float(tables::kCieSamples - 1) ? tables::kCieSamples - 2 : int(t);
+  Float f = t - Float(i);
+  return {lerp(f, tables::kCieX[i], tables::kCieX[i + 1]), lerp(f, tables::kCieY[i], tables::kCieY[i + 1]),
+          lerp(f, tables::kCieZ[i], tables::kCieZ[i + 1])};
+}
+
+/// Film's per-sample XYZ: the Monte Carlo estimate of X = int xbar L dl / CIE_Y_integral
+/// (and Y, Z) from the path's wavelengths, (1/N) sum_i xbar(l_i) L_i / p_i; samples with
+/// pdf 0 (terminated secondaries) contribute nothing.
+KAURI_HOST_DEVICE inline Vec3 sampled_to_xyz(const SampledSpectrum& L, const SampledWavelengths& w) {
+  Vec3 xyz;
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    if (w.pdf[i] == 0) continue;
+    xyz += cie_xyz_bar(w.lambda[i]) * (L[i] / w.pdf[i]);
+  }
+  return xyz * (1 / (Float(kSpectrumSamples) * tables::kCieYIntegral));
+}
+
+// ---- host helpers (spectrum.cpp) ----
+
+/// XYZ of a spectrum by summing against the 1 nm CMF table, / CIE_Y_integral
+/// (so a constant 1 has Y = 1). Host only: 471 evaluations.
+Vec3 spectrum_to_xyz(const Spectrum& s);
+Float spectrum_to_y(const Spectrum& s);
+/// Largest value over [360, 830] nm (exact for RGB kinds without illuminant and blackbody,
+/// sampled at 1 nm otherwise).
+Float spectrum_max_value(const Spectrum& s);
+/// DenselySampled views of a metal's IOR tables.
+DenselySampled metal_eta(const tables::MetalIOR& m);
+DenselySampled metal_k(const tables::MetalIOR& m);
+
+}  // namespace kauri
