@@ -33,7 +33,10 @@ struct PixelFilter {
 struct PixelAccum {
   double rgb[3] = {0, 0, 0};
   double alpha = 0;
-  double albedo[3] = {0, 0, 0};
+  // Albedo as a ratio estimator: Σ XYZ(albedo·white) / Σ XYZ(white) over the same
+  // wavelengths cancels most spectral noise (exact for flat reflectances).
+  double albedo_xyz[3] = {0, 0, 0};
+  double white_xyz[3] = {0, 0, 0};
   double normal[3] = {0, 0, 0};
   double depth = 0;
   uint32_t depth_count = 0;

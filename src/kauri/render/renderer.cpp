@@ -144,18 +144,20 @@ void render_pixel_samples(const TileContext& c, int x, int y, uint32_t s0, uint3
       }
     }
     if (out.albedo_set) {
-      // Albedo as the colour of a reflectance under the working space's white.
-      Vec3 a = sv.to_rgb(sampled_to_xyz(out.albedo * sv.illuminant.sample(lambda), lambda));
-      if (is_finite(a)) {
-        px.albedo[0] += a.x;
-        px.albedo[1] += a.y;
-        px.albedo[2] += a.z;
+      // Albedo: the colour of the reflectance under the working space's white.
+      SampledSpectrum white = sv.illuminant.sample(lambda);
+      Vec3 num = sampled_to_xyz(out.albedo * white, lambda), den = sampled_to_xyz(white, lambda);
+      if (is_finite(num)) {
+        for (int k = 0; k < 3; ++k) {
+          px.albedo_xyz[k] += num[k];
+          px.white_xyz[k] += den[k];
+        }
       }
     }
   }
 }
 
-RenderResult resolve(const std::vector<PixelAccum>& film, int w, int h) {
+RenderResult resolve(const std::vector<PixelAccum>& film, int w, int h, const SceneView& sv, Vec3 white_xyz) {
   RenderResult r;
   r.width = w;
   r.height = h;
@@ -167,10 +169,13 @@ RenderResult resolve(const std::vector<PixelAccum>& film, int w, int h) {
   for (size_t i = 0; i < n; ++i) {
     const PixelAccum& p = film[i];
     double inv = p.samples ? 1.0 / p.samples : 0;
+    Vec3 albedo_xyz;
     for (int k = 0; k < 3; ++k) {
       r.rgba[4 * i + size_t(k)] = float(p.rgb[k] * inv);
-      r.albedo[3 * i + size_t(k)] = float(p.albedo[k] * inv);
+      albedo_xyz[k] = p.white_xyz[k] > 0 ? Float(p.albedo_xyz[k] / p.white_xyz[k]) * white_xyz[k] : 0;
     }
+    Vec3 albedo = sv.to_rgb(albedo_xyz);
+    for (int k = 0; k < 3; ++k) r.albedo[3 * i + size_t(k)] = albedo[k];
     r.rgba[4 * i + 3] = float(p.alpha * inv);
     Vec3 nrm{Float(p.normal[0]), Float(p.normal[1]), Float(p.normal[2])};
     Float l = length(nrm);
@@ -242,7 +247,7 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& cfg) {
   }
   progress.finish();
 
-  RenderResult result = resolve(film, w, h);
+  RenderResult result = resolve(film, w, h, scene.view(), spectrum_to_xyz(scene.view().illuminant));
   RenderStats& st = result.stats;
   st.seconds = seconds_since(t0);
   st.spp = int(done_spp);

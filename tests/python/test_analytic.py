@@ -1,0 +1,104 @@
+"""Renders with closed-form answers: a Lambertian plane under each kind of light."""
+import numpy as np
+import pytest
+
+import kauri
+
+RHO = 0.5
+
+
+def plane_scene(extent=50.0):
+    s = kauri.Scene()
+    P = np.array([[-extent, 0, -extent], [extent, 0, -extent], [extent, 0, extent], [-extent, 0, extent]])
+    s.add_mesh(P, np.array([[0, 3, 2, 1]]), material=kauri.Lambert(albedo=(RHO, RHO, RHO)), name="plane")
+    # Orthographic view straight down onto a 1 x 1 patch at the origin.
+    s.set_camera(kind="orthographic", eye=(0, 5, 0), target=(0, 0, 0), up=(0, 0, -1), width=1.0)
+    return s
+
+
+def mean_rgb(out):
+    return out.rgba[:, :, :3].reshape(-1, 3).mean(axis=0)
+
+
+def test_distant_light_irradiance():
+    # L = ρ E / π for irradiance E arriving along the normal.
+    s = plane_scene()
+    s.add_distant_light(direction=(0, -1, 0), intensity=3.0)
+    out = kauri.render(s, spp=2048, resolution=(4, 4))
+    # The only noise left is spectral (hero wavelengths); 32k samples bring it under 0.5%.
+    np.testing.assert_allclose(mean_rgb(out), RHO * 3.0 / np.pi, rtol=0.005)
+
+
+def test_sun_with_angular_size_matches_its_irradiance():
+    # A uniform disc of angular radius θ delivers E = L π sin²θ onto a plane facing it.
+    s = plane_scene()
+    s.add_distant_light(direction=(0, -1, 0), angle=10.0, intensity=2.0)
+    out = kauri.render(s, spp=1024, resolution=(8, 8))
+    np.testing.assert_allclose(mean_rgb(out), RHO * 2.0 / np.pi, rtol=0.005)
+
+
+def test_point_light_inverse_square():
+    # Directly below a point light of intensity I at height h: L = ρ/π · I / h².
+    s = plane_scene()
+    s.set_camera(kind="orthographic", eye=(0, 5, 0), target=(0, 0, 0), up=(0, 0, -1), width=0.02)
+    s.add_point_light(position=(0, 2, 0), intensity=8.0)
+    out = kauri.render(s, spp=2048, resolution=(4, 4))
+    np.testing.assert_allclose(mean_rgb(out), RHO / np.pi * 8.0 / 4.0, rtol=0.005)
+
+
+def test_spot_light_inside_and_outside_its_cone():
+    s = plane_scene()
+    s.set_camera(kind="orthographic", eye=(0, 5, 0), target=(0, 0, 0), up=(0, 0, -1), width=0.02)
+    s.add_spot_light(position=(0, 2, 0), direction=(0, -1, 0), cone_angle=20, cone_softness=5, intensity=8.0)
+    inside = mean_rgb(kauri.render(s, spp=2048, resolution=(4, 4)))
+    np.testing.assert_allclose(inside, RHO / np.pi * 8.0 / 4.0, rtol=0.005)
+    s2 = plane_scene()
+    s2.set_camera(kind="orthographic", eye=(3, 5, 0), target=(3, 0, 0), up=(0, 0, -1), width=0.02)
+    s2.add_spot_light(position=(0, 2, 0), direction=(0, -1, 0), cone_angle=20, cone_softness=5, intensity=8.0)
+    assert mean_rgb(kauri.render(s2, spp=4, resolution=(8, 8))).max() == 0.0
+
+
+def test_constant_environment_on_a_plane():
+    # The upper hemisphere of radiance c gives irradiance π c: L = ρ c.
+    s = plane_scene()
+    s.add_environment(color=(1, 1, 1), intensity=2.0)
+    out = kauri.render(s, spp=1024, resolution=(8, 8))
+    np.testing.assert_allclose(mean_rgb(out), RHO * 2.0, rtol=0.005)
+
+
+def test_environment_map_importance_sampling_is_unbiased():
+    # A sky image: bright band, dim elsewhere, black below the horizon. A plane facing up
+    # receives E = ∫ L cosθ dω over the image, integrated here on the texel grid.
+    h, w = 64, 128
+    v = (np.arange(h) + 0.5) / h
+    theta = v * np.pi
+    img = np.zeros((h, w, 3), np.float32)
+    img[theta < np.pi / 2] = 0.2
+    band = (theta > 0.3) & (theta < 0.5)
+    img[band, 40:60] = 50.0
+    s = plane_scene()
+    s.add_environment(image=img)
+    out = kauri.render(s, spp=1024, resolution=(8, 8))
+    dtheta, dphi = np.pi / h, 2 * np.pi / w
+    lum = img[:, :, 0]
+    E = (lum * np.cos(theta)[:, None] * np.sin(theta)[:, None]).sum() * dtheta * dphi
+    np.testing.assert_allclose(mean_rgb(out), RHO * E / np.pi, rtol=0.02)
+
+
+def test_area_light_quad_matches_form_factor():
+    # A point under the centre of a one-sided square emitter of radiance L at height d
+    # receives E = π L F, F the differential-area-to-parallel-rectangle form factor.
+    a, d, L = 0.5, 1.0, 4.0
+    s = plane_scene()
+    # The camera sits between the panel (which faces down) and the plane.
+    s.set_camera(kind="orthographic", eye=(0, 0.5, 0), target=(0, 0, 0), up=(0, 0, -1), width=0.01)
+    P = np.array([[-a, d, -a], [a, d, -a], [a, d, a], [-a, d, a]])
+    s.add_mesh(P, np.array([[0, 1, 2, 3]]), emission=kauri.Emission(intensity=L), name="panel")
+    out = kauri.render(s, spp=1024, resolution=(4, 4))
+    # Form factor from a point to a parallel rectangle of half-sizes a, a at distance d
+    # (four quadrants of the corner formula).
+    x = y = a / d
+    F_quadrant = (x / np.sqrt(1 + x * x) * np.arctan(y / np.sqrt(1 + x * x))
+                  + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))) / (2 * np.pi)
+    E = np.pi * L * 4 * F_quadrant
+    np.testing.assert_allclose(mean_rgb(out), RHO * E / np.pi, rtol=0.01)
