@@ -7,7 +7,8 @@ import os
 import sys
 import time
 
-DEMO_SPP = 256
+DEMO_SPP = 96
+DEMO_CLAMP = 8.0
 DEMO_RES = "512x512"
 
 
@@ -37,7 +38,10 @@ def _load_scene(path: str):
         raise SystemExit(f"kauri: error: {path}: {type(e).__name__}: {e}") from None
     if not hasattr(module, "build"):
         raise SystemExit(f"kauri: error: {path}: defines no build() function returning a kauri.Scene")
-    scene = module.build()
+    try:
+        scene = module.build()
+    except ValueError as e:  # scene errors name the object and parameter
+        raise SystemExit(f"kauri: error: {path}: {e}") from None
     if not isinstance(scene, Scene):
         raise SystemExit(f"kauri: error: {path}: build() returned {type(scene).__name__}, expected kauri.Scene")
     return scene
@@ -52,11 +56,12 @@ def _cmd_render(args) -> int:
         print(f"kauri: error: -o {out}: the output must be an .exr file", file=sys.stderr)
         return 2
     w, h = args.res
+    clamp = args.clamp if args.clamp is not None else (0.0 if args.scene else DEMO_CLAMP)
     print(f"kauri: rendering {args.scene or 'built-in demo scene'} at {w}x{h}, {args.spp} spp"
           + (f", time limit {args.time_limit:g} s" if args.time_limit else ""), file=sys.stderr)
     try:
         result = render(scene, spp=args.spp, resolution=(w, h), seed=args.seed, threads=args.threads,
-                        time_limit=args.time_limit, max_depth=args.max_depth, clamp=args.clamp,
+                        time_limit=args.time_limit, max_depth=args.max_depth, clamp=clamp,
                         sampler=args.sampler, progress=not args.quiet)
     except (SceneError, ValueError) as e:
         print(f"kauri: error: {e}", file=sys.stderr)
@@ -88,8 +93,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--time-limit", type=float, default=0.0, metavar="T",
                    help="stop after T seconds, at the end of a progressive pass (default: no limit)")
     r.add_argument("--max-depth", type=int, default=16, metavar="D", help="maximum path depth (default 16)")
-    r.add_argument("--clamp", type=float, default=0.0, metavar="C",
-                   help="clamp indirect sample luminance to C (default 0 = off)")
+    r.add_argument("--clamp", type=float, default=None, metavar="C",
+                   help=f"clamp indirect sample luminance to C; 0 = off (default: off, or {DEMO_CLAMP:g} "
+                        "for the demo scene, which tames its glass caustics)")
     r.add_argument("--sampler", choices=["sobol", "independent"], default="sobol",
                    help="sample generator (default: Owen-scrambled Sobol')")
     r.add_argument("--exposure", type=float, default=0.0, metavar="EV", help="preview exposure in stops")
