@@ -1,0 +1,537 @@
+// Statistical tests of the sampling routines (sampler/sampling.h, distribution.h,
+// sampler.h, sobol.h) and the pixel filter (film/film.h). Every warp is checked
+// against its own density with the chi-square helper of chi2.h; seeds are fixed
+// so a failure reproduces.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "chi2.h"
+#include "kauri/film/film.h"
+#include "kauri/sampler/distribution.h"
+#include "kauri/sampler/sampler.h"
+#include "kauri/sampler/sampling.h"
+
+namespace kauri {
+namespace {
+
+using test::Chi2Options;
+using test::RectChi2Config;
+using test::SphereChi2Config;
+using test::kPiD;
+
+Vec2 next_2d(PCG32& rng) {
+  Float a = rng.next_float();
+  return {a, rng.next_float()};
+}
+
+// ---------------------------------------------------------------- the helper itself
+
+TEST(Chi2Helper, IncompleteGammaMatchesReference) {
+  // Reference values from scipy.stats.chi2.sf / scipy.special.gammaincc.
+  EXPECT_NEAR(test::chi2_sf(3.841458820694124, 1), 0.05, 1e-12);
+  EXPECT_NEAR(test::chi2_sf(18.307038053275146, 10), 0.05, 1e-12);
+  EXPECT_NEAR(test::chi2_sf(1000, 1000), 0.49405285382923964, 1e-10);
+  EXPECT_NEAR(test::chi2_sf(1200, 1000) / 1.2255942330622893e-05, 1, 1e-8);
+  EXPECT_NEAR(test::chi2_sf(0.5, 3), 0.9188914116546758, 1e-12);
+  EXPECT_NEAR(test::chi2_sf(50, 7) / 1.4444852779215397e-08, 1, 1e-8);
+  EXPECT_NEAR(test::gamma_q(0.5, 0.1), 0.6547208460185768, 1e-12);
+  EXPECT_NEAR(test::gamma_q(30, 10), 0.9999997490048799, 1e-12);
+  EXPECT_NEAR(test::gamma_q(30, 60) / 6.876264968732136e-06, 1, 1e-8);
+  double a = test::chi2_alpha();
+  EXPECT_GT(a, 0.01 / test::kChi2TestCount);  // Šidák is slightly less strict than Bonferroni
+  EXPECT_LT(a, 0.01 / test::kChi2TestCount * 1.01);
+}
+
+// Negative controls: the helper must reject a wrong density, a sample where the
+// density is zero, and a density that does not integrate to the success rate.
+TEST(Chi2Helper, RejectsWrongDensities) {
+  Chi2Options neg;
+  neg.counted = false;
+  auto uniform = [](PCG32& r, double* x, double* y) {
+    *x = double(r.next_float());
+    *y = double(r.next_float());
+    return true;
+  };
+  RectChi2Config cfg{"negative control", 0, 1, 0, 1, 16, 16, 100000, 7, neg};
+  // Slightly tilted density (±5%).
+  EXPECT_FALSE(test::rect_chi2(uniform, [](double x, double) { return 0.95 + 0.1 * x; }, cfg));
+  // Zero on a strip where samples land.
+  EXPECT_FALSE(test::rect_chi2(uniform, [](double x, double) { return x < 0.25 ? 0.0 : 4.0 / 3.0; }, cfg));
+  // Right shape, wrong normalisation.
+  EXPECT_FALSE(test::rect_chi2(uniform, [](double, double) { return 0.9; }, cfg));
+  // And accepts the right one.
+  EXPECT_TRUE(test::rect_chi2(uniform, [](double, double) { return 1.0; }, cfg));
+}
+
+// ---------------------------------------------------------------- warps
+
+TEST(Sampling, UniformDisk) {
+  // (r², φ/2π) is uniform on [0,1)² for a uniform disk.
+  auto sample = [](PCG32& r, double* x, double* y) {
+    Vec2 d = sample_uniform_disk(next_2d(r));
+    double r2 = double(d.x) * double(d.x) + double(d.y) * double(d.y);
+    if (r2 > 1 + 1e-6) return false;
+    double phi = std::atan2(double(d.y), double(d.x));
+    if (phi < 0) phi += 2 * kPiD;
+    *x = r2;
+    *y = phi / (2 * kPiD);
+    return true;
+  };
+  RectChi2Config cfg{"uniform disk", 0, 1, 0, 1, 32, 32, 1000000, 11};
+  EXPECT_TRUE(test::rect_chi2(sample, [](double, double) { return 1.0; }, cfg));
+  EXPECT_EQ(sample_uniform_disk({0.5f, 0.5f}).x, 0);
+}
+
+TEST(Sampling, CosineHemisphere) {
+  SphereChi2Config cfg;
+  cfg.name = "cosine hemisphere";
+  cfg.forced_cos = {0};
+  cfg.seed = 12;
+  auto sample = [](PCG32& r, Vec3* w) {
+    *w = sample_cosine_hemisphere(next_2d(r));
+    return true;
+  };
+  EXPECT_TRUE(test::sphere_chi2(sample, [](Vec3 w) { return double(w.z > 0 ? w.z : 0) / kPiD; }, cfg));
+  // The density function itself.
+  EXPECT_FLOAT_EQ(cosine_hemisphere_pdf(0.5f), 0.5f * kInvPi);
+  EXPECT_EQ(cosine_hemisphere_pdf(-0.5f), 0);
+  PCG32 rng(3, 4);
+  for (int i = 0; i < 1000; ++i) {
+    Vec3 w = sample_cosine_hemisphere(next_2d(rng));
+    ASSERT_NEAR(length(w), 1, 1e-5);
+    ASSERT_GE(w.z, 0);
+  }
+}
+
+TEST(Sampling, UniformSphere) {
+  SphereChi2Config cfg;
+  cfg.name = "uniform sphere";
+  cfg.adaptive = false;
+  cfg.seed = 13;
+  auto sample = [](PCG32& r, Vec3* w) {
+    *w = sample_uniform_sphere(next_2d(r));
+    return true;
+  };
+  EXPECT_TRUE(test::sphere_chi2(sample, [](Vec3) { return double(uniform_sphere_pdf()); }, cfg));
+  EXPECT_NEAR(double(uniform_sphere_pdf()), 1 / (4 * kPiD), 1e-8);
+}
+
+TEST(Sampling, UniformCone) {
+  for (Float cos_max : {0.999f, 0.9f, 0.5f, 0.0f, -0.6f}) {
+    SphereChi2Config cfg;
+    cfg.name = "uniform cone cos_max=" + std::to_string(cos_max);
+    cfg.forced_cos = {double(cos_max)};
+    cfg.seed = 14 + uint64_t(100 * (cos_max + 1));
+    cfg.samples = 500000;
+    auto sample = [&](PCG32& r, Vec3* w) {
+      *w = sample_uniform_cone(next_2d(r), cos_max);
+      return true;
+    };
+    auto pdf = [&](Vec3 w) { return w.z >= cos_max ? double(uniform_cone_pdf(cos_max)) : 0.0; };
+    EXPECT_TRUE(test::sphere_chi2(sample, pdf, cfg));
+  }
+}
+
+TEST(Sampling, UniformTriangle) {
+  // Barycentrics (b0, b1) uniform on the triangle ⇔ (1 − (1 − b0)², b1/(1 − b0)) uniform on [0,1)².
+  int outside = 0;
+  auto sample = [&](PCG32& r, double* x, double* y) {
+    Vec2 b = sample_uniform_triangle(next_2d(r));
+    double b0 = double(b.x), b1 = double(b.y);
+    if (b0 < 0 || b1 < 0 || b0 + b1 > 1 + 1e-6) ++outside;
+    *x = 1 - (1 - b0) * (1 - b0);
+    *y = b0 < 1 ? b1 / (1 - b0) : 0.5;
+    return true;
+  };
+  RectChi2Config cfg{"uniform triangle", 0, 1, 0, 1, 32, 32, 1000000, 15};
+  EXPECT_TRUE(test::rect_chi2(sample, [](double, double) { return 1.0; }, cfg));
+  EXPECT_EQ(outside, 0);
+
+  // Uniform in area: each of the 4 midpoint sub-triangles receives a quarter.
+  PCG32 rng(16, 1);
+  int counts[4] = {0, 0, 0, 0};
+  const int n = 400000;
+  for (int i = 0; i < n; ++i) {
+    Vec2 b = sample_uniform_triangle(next_2d(rng));
+    Float b2 = 1 - b.x - b.y;
+    // Sub-triangle: corner k if its barycentric > 1/2, else the middle one.
+    int k = b.x > 0.5f ? 0 : (b.y > 0.5f ? 1 : (b2 > 0.5f ? 2 : 3));
+    ++counts[k];
+  }
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(double(counts[k]) / n, 0.25, 5 * std::sqrt(0.25 * 0.75 / n)) << k;
+}
+
+TEST(Sampling, ErfInvAccuracy) {
+  // Compare with erf: erf(erf_inv(x)) must give back x, and erf_inv(erf(y)) must
+  // give back y up to the conditioning of erf_inv near ±1.
+  double max_fwd = 0, max_rel = 0;
+  for (int i = -100000; i <= 100000; ++i) {
+    Float x = Float(double(i) / 100001.0);
+    double y = double(erf_inv(x));
+    double back = std::erf(y);
+    max_fwd = std::max(max_fwd, std::fabs(back - double(x)));
+    // Relative error of y against the exact inverse at x (one Newton step from y in double).
+    double exact = y - (std::erf(y) - double(x)) / (2 / std::sqrt(kPiD) * std::exp(-y * y));
+    if (exact != 0) max_rel = std::max(max_rel, std::fabs(y - exact) / std::fabs(exact));
+  }
+  std::cout << "erf_inv: max |erf(erf_inv(x)) - x| = " << max_fwd << ", max rel. error = " << max_rel << "\n";
+  ::testing::Test::RecordProperty("erf_inv_max_forward_error", std::to_string(max_fwd));
+  ::testing::Test::RecordProperty("erf_inv_max_relative_error", std::to_string(max_rel));
+  EXPECT_LT(max_fwd, 3e-7);
+  EXPECT_LT(max_rel, 2e-6);
+  // Tails: x = ±(1 − 2^-k).
+  for (int k = 2; k <= 24; ++k) {
+    Float x = 1 - std::ldexp(1.0f, -k);
+    double y = double(erf_inv(x));
+    double exact = y - (std::erf(y) - double(x)) / (2 / std::sqrt(kPiD) * std::exp(-y * y));
+    for (int it = 0; it < 5; ++it)
+      exact = exact - (std::erf(exact) - double(x)) / (2 / std::sqrt(kPiD) * std::exp(-exact * exact));
+    EXPECT_NEAR(y / exact, 1, 2e-6) << "x = 1 - 2^-" << k;
+    EXPECT_EQ(erf_inv(-x), -erf_inv(x));
+  }
+  EXPECT_EQ(erf_inv(0), 0);
+}
+
+TEST(Sampling, TruncatedGaussian) {
+  struct Case {
+    Float sigma, r;
+  };
+  int k = 0;
+  for (Case c : {Case{0.5f, 1.5f}, Case{0.3f, 0.4f}, Case{1.0f, 3.5f}}) {
+    auto sample = [&](PCG32& rng, double* x, double* y) {
+      *x = double(sample_truncated_gaussian(rng.next_float(), c.sigma, c.r));
+      *y = 0.5;
+      return true;
+    };
+    auto pdf = [&](double x, double) { return double(truncated_gaussian_pdf(Float(x), c.sigma, c.r)); };
+    RectChi2Config cfg{"truncated gaussian sigma=" + std::to_string(c.sigma) + " r=" + std::to_string(c.r),
+                       -double(c.r), double(c.r), 0, 1, 100, 1, 500000, uint64_t(20 + k++)};
+    EXPECT_TRUE(test::rect_chi2(sample, pdf, cfg));
+    EXPECT_LE(std::fabs(sample_truncated_gaussian(0, c.sigma, c.r)), c.r);
+    EXPECT_LE(std::fabs(sample_truncated_gaussian(kOneMinusEpsilon, c.sigma, c.r)), c.r);
+    EXPECT_EQ(truncated_gaussian_pdf(c.r * 1.01f, c.sigma, c.r), 0);
+  }
+}
+
+TEST(Sampling, PixelFilterGaussianAndBox) {
+  for (FilterType type : {FilterType::Gaussian, FilterType::Box}) {
+    PixelFilter f;
+    f.type = type;
+    f.sigma = 0.5f;
+    f.radius = type == FilterType::Box ? 0.5f : 1.5f;
+    auto sample = [&](PCG32& rng, double* x, double* y) {
+      Vec2 p = f.sample(next_2d(rng));
+      *x = double(p.x);
+      *y = double(p.y);
+      return true;
+    };
+    auto pdf = [&](double x, double y) { return double(f.pdf({Float(x), Float(y)})); };
+    double r = double(f.radius);
+    RectChi2Config cfg{type == FilterType::Box ? "box filter" : "gaussian filter", -r, r, -r, r, 30, 30, 1000000,
+                       uint64_t(type == FilterType::Box ? 31 : 32)};
+    EXPECT_TRUE(test::rect_chi2(sample, pdf, cfg));
+  }
+}
+
+// ---------------------------------------------------------------- distributions
+
+std::vector<Float> random_function(PCG32& rng, int n, double zero_fraction) {
+  std::vector<Float> f(size_t(n));
+  for (Float& v : f) {
+    Float u = rng.next_float();
+    v = rng.next_float() < Float(zero_fraction) ? 0 : u * u * u * 10;
+  }
+  return f;
+}
+
+TEST(Distribution, Continuous1D) {
+  PCG32 rng(40, 1);
+  std::vector<std::vector<Float>> funcs;
+  funcs.push_back(random_function(rng, 37, 0.25));
+  // Leading, trailing and consecutive zero bins.
+  std::vector<Float> g = random_function(rng, 24, 0.1);
+  g[0] = g[1] = g[22] = g[23] = g[10] = g[11] = g[12] = 0;
+  g[5] = 1e-4f;
+  funcs.push_back(g);
+  int k = 0;
+  for (const auto& f : funcs) {
+    Distribution1DStorage storage(f);
+    Distribution1D d = storage.view();
+    const int n = d.n;
+    double integral = 0;
+    for (Float v : f) integral += double(v) / n;
+    EXPECT_NEAR(double(d.integral), integral, 1e-6 * integral);
+    int mismatches = 0;
+    auto sample = [&](PCG32& r, double* x, double* y) {
+      Float pdf;
+      int bin;
+      Float xs = d.sample_continuous(r.next_float(), &pdf, &bin);
+      if (bin != std::min(n - 1, int(xs * Float(n))) || pdf != d.pdf(xs)) ++mismatches;
+      *x = double(xs);
+      *y = 0.5;
+      return true;
+    };
+    // Three cells per bin, aligned with the bins, so zero bins are zero cells.
+    RectChi2Config cfg{"distribution1d continuous #" + std::to_string(k), 0, 1, 0, 1, 3 * n, 1, 500000,
+                       uint64_t(41 + k)};
+    EXPECT_TRUE(test::rect_chi2(sample, [&](double x, double) { return double(d.pdf(Float(x))); }, cfg));
+    EXPECT_EQ(mismatches, 0);
+    ++k;
+  }
+}
+
+TEST(Distribution, Discrete1D) {
+  PCG32 rng(50, 1);
+  std::vector<Float> f = random_function(rng, 29, 0.3);
+  f[0] = 0;
+  f[28] = 0;
+  Distribution1DStorage storage(f);
+  Distribution1D d = storage.view();
+  const int n = d.n;
+  double sum = 0;
+  for (Float v : f) sum += double(v);
+  for (int i = 0; i < n; ++i) EXPECT_NEAR(double(d.discrete_pmf(i)), double(f[size_t(i)]) / sum, 1e-6);
+  // The bin (as a cell) and the remapped u within it: x = (i + u')/n must have the
+  // continuous density, i.e. the bin is chosen with probability pmf and u' is uniform.
+  int pmf_mismatch = 0;
+  auto sample = [&](PCG32& r, double* x, double* y) {
+    Float pmf, ur;
+    int i = d.sample_discrete(r.next_float(), &pmf, &ur);
+    if (pmf != d.discrete_pmf(i) || !(ur >= 0 && ur < 1)) ++pmf_mismatch;
+    *x = (double(i) + double(ur)) / n;
+    *y = 0.5;
+    return true;
+  };
+  RectChi2Config cfg{"distribution1d discrete + remapped u", 0, 1, 0, 1, 4 * n, 1, 500000, 51};
+  EXPECT_TRUE(test::rect_chi2(sample, [&](double x, double) { return double(d.pdf(Float(x))); }, cfg));
+  EXPECT_EQ(pmf_mismatch, 0);
+  // Bin frequencies alone, against the pmf.
+  auto sample_bin = [&](PCG32& r, double* x, double* y) {
+    Float pmf;
+    *x = (double(d.sample_discrete(r.next_float(), &pmf)) + 0.5) / n;
+    *y = 0.5;
+    return true;
+  };
+  RectChi2Config cfg2{"distribution1d discrete pmf", 0, 1, 0, 1, n, 1, 500000, 52};
+  EXPECT_TRUE(test::rect_chi2(sample_bin, [&](double x, double) { return double(d.pdf(Float(x))); }, cfg2));
+
+  // A function that is all zero: the integral is 0 and sampling still returns a valid bin.
+  Distribution1DStorage zero(std::vector<Float>(5, 0));
+  Float pmf = -1;
+  int i = zero.view().sample_discrete(0.3f, &pmf);
+  EXPECT_GE(i, 0);
+  EXPECT_LT(i, 5);
+  EXPECT_EQ(pmf, 0);
+}
+
+TEST(Distribution, Continuous2D) {
+  PCG32 rng(60, 1);
+  const int nu = 13, nv = 9;
+  std::vector<Float> f = random_function(rng, nu * nv, 0.2);
+  for (int u = 0; u < nu; ++u) f[size_t(4 * nu + u)] = 0;  // a whole zero row
+  for (int v = 0; v < nv; ++v) f[size_t(v * nu + 7)] = 0;  // a whole zero column
+  Distribution2DStorage storage(f, nu, nv);
+  Distribution2D d = storage.view();
+  int mismatches = 0;
+  auto sample = [&](PCG32& r, double* x, double* y) {
+    Float pdf;
+    Vec2 p = d.sample(next_2d(r), &pdf);
+    Float ref = d.pdf(p);
+    if (std::fabs(pdf - ref) > 1e-5f * ref) ++mismatches;
+    *x = double(p.x);
+    *y = double(p.y);
+    return true;
+  };
+  RectChi2Config cfg{"distribution2d", 0, 1, 0, 1, 2 * nu, 2 * nv, 1000000, 61};
+  EXPECT_TRUE(test::rect_chi2(sample, [&](double x, double y) { return double(d.pdf({Float(x), Float(y)})); }, cfg));
+  EXPECT_EQ(mismatches, 0);
+  // pdf is func / ∫func.
+  double integral = 0;
+  for (Float v : f) integral += double(v);
+  integral /= nu * nv;
+  EXPECT_NEAR(double(d.pdf({(2 + 0.5f) / nu, (3 + 0.5f) / nv})), double(f[size_t(3 * nu + 2)]) / integral, 1e-5);
+}
+
+// ---------------------------------------------------------------- samplers
+
+Sampler sobol_sampler() {
+  Sampler s;
+  s.type = SamplerType::Sobol;
+  return s;
+}
+
+/// Points of `count` consecutive sample indices starting at `first` for one pixel,
+/// from the 2D pair that starts at dimension `dim` (even).
+std::vector<Vec2> sobol_points(int px, int py, uint32_t first, uint32_t count, uint32_t dim, uint64_t seed) {
+  Sampler s = sobol_sampler();
+  std::vector<Vec2> pts;
+  for (uint32_t i = first; i < first + count; ++i) {
+    s.start_pixel_sample(px, py, i, seed);
+    for (uint32_t k = 0; k < dim / 2; ++k) s.get_2d();
+    pts.push_back(s.get_2d());
+  }
+  return pts;
+}
+
+/// True if every elementary interval 2^-a × 2^-b (a + b = m) holds exactly one point.
+::testing::AssertionResult is_02_net(const std::vector<Vec2>& pts, int m) {
+  const uint32_t n = 1u << m;
+  if (pts.size() != n) return ::testing::AssertionFailure() << "wrong count";
+  for (int a = 0; a <= m; ++a) {
+    const int b = m - a;
+    std::vector<int> cnt(n, 0);
+    for (Vec2 p : pts) {
+      uint32_t ix = uint32_t(double(p.x) * double(1u << a)), iy = uint32_t(double(p.y) * double(1u << b));
+      ++cnt[(iy << a) | ix];
+    }
+    for (uint32_t c = 0; c < n; ++c)
+      if (cnt[c] != 1)
+        return ::testing::AssertionFailure() << "elementary interval " << (1u << a) << "x" << (1u << b) << " cell "
+                                             << c << " has " << cnt[c] << " points";
+  }
+  return ::testing::AssertionSuccess();
+}
+
+TEST(Sobol, FirstPointsOfEveryPairAreA02Net) {
+  // 256 points in 16×16 cells: exactly one each; and the finer statement that the
+  // first 2^m points (and every aligned block of 2^m) are a (0,m,2)-net.
+  for (int px : {0, 17, 1023})
+    for (uint32_t dim : {0u, 2u, 6u, 30u}) {
+      std::vector<Vec2> pts = sobol_points(px, 5, 0, 256, dim, 1234);
+      std::vector<int> grid(256, 0);
+      for (Vec2 p : pts) ++grid[size_t(int(p.y * 16) * 16 + int(p.x * 16))];
+      EXPECT_TRUE(std::all_of(grid.begin(), grid.end(), [](int c) { return c == 1; }))
+          << "pixel " << px << " dims " << dim << "," << dim + 1;
+      for (int m = 1; m <= 10; ++m)
+        EXPECT_TRUE(is_02_net(sobol_points(px, 5, 0, 1u << m, dim, 1234), m)) << "m=" << m << " dim " << dim;
+      EXPECT_TRUE(is_02_net(sobol_points(px, 5, 256 * 3, 256, dim, 1234), 8)) << "block 3, dim " << dim;
+    }
+}
+
+TEST(Sobol, OneDimensionalStratification) {
+  Sampler s = sobol_sampler();
+  for (uint32_t dim : {0u, 1u, 5u}) {
+    std::vector<int> cnt(64, 0);
+    for (uint32_t i = 0; i < 64; ++i) {
+      s.start_pixel_sample(3, 4, i, 99);
+      Float v = 0;
+      for (uint32_t k = 0; k <= dim; ++k) v = s.get_1d();
+      ++cnt[size_t(v * 64)];
+    }
+    EXPECT_TRUE(std::all_of(cnt.begin(), cnt.end(), [](int c) { return c == 1; })) << "dim " << dim;
+  }
+}
+
+TEST(Sobol, UniformAcrossPixels) {
+  // One point per pixel, random index and pair: points of different pixels are
+  // independent, so the chi-square test is exact here.
+  PCG32 pick(70, 1);
+  auto sample = [&](PCG32& r, double* x, double* y) {
+    Sampler s = sobol_sampler();
+    s.start_pixel_sample(int(r.next_u32() % 4096), int(r.next_u32() % 4096), r.next_u32() % 4096, 5);
+    uint32_t skip = r.next_u32() % 8;
+    for (uint32_t k = 0; k < skip; ++k) s.get_2d();
+    Vec2 p = s.get_2d();
+    *x = double(p.x);
+    *y = double(p.y);
+    return true;
+  };
+  RectChi2Config cfg{"sobol across pixels", 0, 1, 0, 1, 32, 32, 1000000, 71};
+  EXPECT_TRUE(test::rect_chi2(sample, [](double, double) { return 1.0; }, cfg));
+}
+
+TEST(Sobol, UniformWithinOnePixel) {
+  // 2^20 points of one pixel and pair (stratified: the test is one-sided, so it
+  // only catches gross non-uniformity such as a bad scramble).
+  uint32_t idx = 0;
+  auto sample = [&](PCG32&, double* x, double* y) {
+    Sampler s = sobol_sampler();
+    s.start_pixel_sample(12, 34, idx++, 5);
+    s.get_2d();
+    Vec2 p = s.get_2d();
+    *x = double(p.x);
+    *y = double(p.y);
+    return true;
+  };
+  RectChi2Config cfg{"sobol one pixel", 0, 1, 0, 1, 32, 32, 1 << 20, 72};
+  EXPECT_TRUE(test::rect_chi2(sample, [](double, double) { return 1.0; }, cfg));
+}
+
+TEST(Sobol, PairsAreDecorrelated) {
+  // Coordinates from two different pairs of the same pixel and index must be
+  // jointly uniform (the padding: each pair shuffles the index independently).
+  // Random indices (not consecutive ones) keep the samples independent.
+  auto sample = [&](PCG32& r, double* x, double* y) {
+    Sampler s = sobol_sampler();
+    s.start_pixel_sample(7, 8, r.next_u32(), 5);
+    Vec2 a = s.get_2d();
+    Vec2 b = s.get_2d();
+    *x = double(a.x);
+    *y = double(b.y);
+    return true;
+  };
+  RectChi2Config cfg{"sobol pair 0.x vs pair 1.y", 0, 1, 0, 1, 32, 32, 1000000, 73};
+  EXPECT_TRUE(test::rect_chi2(sample, [](double, double) { return 1.0; }, cfg));
+}
+
+TEST(Sobol, Deterministic) {
+  Sampler a = sobol_sampler(), b = sobol_sampler();
+  for (uint32_t i = 0; i < 64; ++i) {
+    a.start_pixel_sample(9, 10, i, 77);
+    b.start_pixel_sample(9, 10, i, 77);
+    for (int d = 0; d < 12; ++d) {
+      Float x = a.get_1d();
+      EXPECT_EQ(float_as_bits(x), float_as_bits(b.get_1d()));
+      EXPECT_EQ(float_as_bits(x), float_as_bits(owen_sobol_sample(i, uint32_t(d), a.pixel_seed)));
+    }
+    Vec2 p = a.get_2d(), q = b.get_2d();
+    EXPECT_EQ(float_as_bits(p.x), float_as_bits(q.x));
+    EXPECT_EQ(float_as_bits(p.y), float_as_bits(q.y));
+    EXPECT_EQ(a.dimension, 14u);
+  }
+  // Different pixels and seeds give different streams.
+  a.start_pixel_sample(9, 10, 3, 77);
+  b.start_pixel_sample(10, 9, 3, 77);
+  Float x = a.get_1d(), y = b.get_1d();
+  EXPECT_NE(x, y);
+  b.start_pixel_sample(9, 10, 3, 78);
+  EXPECT_NE(x, b.get_1d());
+  // get_2d aligns to an even dimension.
+  a.start_pixel_sample(1, 1, 0, 0);
+  a.get_1d();
+  Vec2 p = a.get_2d();
+  EXPECT_EQ(a.dimension, 4u);
+  EXPECT_EQ(p.x, owen_sobol_sample(0, 2, a.pixel_seed));
+  // Values lie in [0,1).
+  for (uint32_t i = 0; i < 4096; ++i) {
+    Float v = owen_sobol_sample(i, i % 7, 0x1234);
+    ASSERT_GE(v, 0);
+    ASSERT_LT(v, 1);
+  }
+}
+
+TEST(IndependentSampler, Uniform) {
+  auto sample = [&](PCG32& r, double* x, double* y) {
+    Sampler s;
+    s.type = SamplerType::Independent;
+    s.start_pixel_sample(int(r.next_u32() % 4096), 3, r.next_u32(), 9);
+    s.get_1d();
+    Vec2 p = s.get_2d();
+    *x = double(p.x);
+    *y = double(p.y);
+    return true;
+  };
+  RectChi2Config cfg{"independent sampler", 0, 1, 0, 1, 32, 32, 500000, 80};
+  EXPECT_TRUE(test::rect_chi2(sample, [](double, double) { return 1.0; }, cfg));
+  Sampler a, b;
+  a.type = b.type = SamplerType::Independent;
+  a.start_pixel_sample(1, 2, 3, 4);
+  b.start_pixel_sample(1, 2, 3, 4);
+  EXPECT_EQ(a.get_1d(), b.get_1d());
+}
+
+}  // namespace
+}  // namespace kauri
