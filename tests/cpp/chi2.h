@@ -18,6 +18,7 @@
 // implementation fails the whole binary by chance with probability 0.01. Every
 // Chi2 test bumps a counter and a global environment checks, after the run, that
 // the constant is not smaller than the number actually performed.
+// Set KAURI_CHI2_VERBOSE=1 to print the statistics of passing tests too.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -26,6 +27,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <iostream>
 #include <numeric>
 #include <sstream>
@@ -265,6 +267,7 @@ class Chi2Table {
       if (pooled_exp > 0) msg << "\n   pooled: observed " << pooled_obs << ", expected " << pooled_exp;
       return ::testing::AssertionFailure() << msg.str();
     }
+    if (std::getenv("KAURI_CHI2_VERBOSE")) std::cout << "[chi2] " << msg.str() << "\n";
     return ::testing::AssertionSuccess() << msg.str();
   }
 
@@ -301,6 +304,10 @@ struct RectChi2Config {
   int samples = 1000000;
   uint64_t seed = 1;
   Chi2Options opt;
+  RectChi2Config(std::string name_, double x0_, double x1_, double y0_, double y1_, int nx_, int ny_, int samples_,
+                 uint64_t seed_, Chi2Options opt_ = {})
+      : name(std::move(name_)), x0(x0_), x1(x1_), y0(y0_), y1(y1_), nx(nx_), ny(ny_), samples(samples_),
+        seed(seed_), opt(opt_) {}
 };
 
 template <class SampleFn, class PdfFn>

@@ -102,3 +102,46 @@ def test_area_light_quad_matches_form_factor():
                   + y / np.sqrt(1 + y * y) * np.arctan(x / np.sqrt(1 + y * y))) / (2 * np.pi)
     E = np.pi * L * 4 * F_quadrant
     np.testing.assert_allclose(mean_rgb(out), RHO * E / np.pi, rtol=0.01)
+
+
+def _point_probe_scene():
+    s = plane_scene()
+    s.set_camera(kind="orthographic", eye=(0, 0.2, 0), target=(0, 0, 0), up=(0, 0, -1), width=0.01)
+    return s
+
+
+def test_spherical_emitter_irradiance():
+    # A sphere of radiance L, radius r, centre at height d: E = π L (r/d)² on a facing point.
+    r, d, L = 0.3, 1.0, 5.0
+    s = _point_probe_scene()
+    s.add_sphere(center=(0, d, 0), radius=r, emission=kauri.Emission(intensity=L))
+    out = kauri.render(s, spp=1024, resolution=(4, 4))
+    np.testing.assert_allclose(mean_rgb(out), RHO * L * (r / d) ** 2, rtol=0.01)
+
+
+def test_disk_emitter_irradiance_two_sided():
+    # On the axis of a disk of radius r at distance d: E = π L r² / (r² + d²).
+    r, d, L = 0.5, 1.0, 3.0
+    s = _point_probe_scene()
+    s.add_disk(center=(0, d, 0), normal=(0, 1, 0), radius=r,
+               emission=kauri.Emission(intensity=L, two_sided=True))
+    out = kauri.render(s, spp=1024, resolution=(4, 4))
+    np.testing.assert_allclose(mean_rgb(out), RHO * L * r * r / (r * r + d * d), rtol=0.01)
+    # One-sided and facing away: no light.
+    s = _point_probe_scene()
+    s.add_disk(center=(0, d, 0), normal=(0, 1, 0), radius=r, emission=kauri.Emission(intensity=L))
+    assert mean_rgb(kauri.render(s, spp=16, resolution=(4, 4))).max() == 0.0
+
+
+def test_blackbody_emitter_has_its_luminance_and_warm_colour():
+    # A 3000 K emitter normalised to luminance 1 lights a white plane warmer than a 9000 K one.
+    def render(T):
+        s = _point_probe_scene()
+        s.add_disk(center=(0, 1, 0), normal=(0, -1, 0), radius=0.5, emission=kauri.Emission(temperature=T))
+        return mean_rgb(kauri.render(s, spp=1024, resolution=(4, 4)))
+    warm, cold = render(3000.0), render(9000.0)
+    assert warm[0] / warm[2] > 1.5 > cold[0] / cold[2]
+    ap1_y = np.array([0.2722287, 0.6740818, 0.0536895])
+    expected_y = RHO * 0.25 / (0.25 + 1.0)  # luminance-normalised: E_Y = π · 1 · r²/(r²+d²)
+    np.testing.assert_allclose(warm @ ap1_y, expected_y, rtol=0.02)
+    np.testing.assert_allclose(cold @ ap1_y, expected_y, rtol=0.02)
