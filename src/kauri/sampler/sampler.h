@@ -11,21 +11,26 @@ enum class SamplerType : uint32_t { Independent = 0, Sobol = 1 };
 
 struct Sampler {
   SamplerType type = SamplerType::Sobol;
-  uint64_t pixel_seed = 0;
+  uint32_t pixel_seed = 0;
   uint32_t index = 0;
   uint32_t dimension = 0;
   PCG32 rng;
 
   /// Starts sample `index` of pixel (px, py). `seed` decorrelates whole renders.
   KAURI_HOST_DEVICE void start_pixel_sample(int px, int py, uint32_t sample_index, uint64_t seed) {
-    pixel_seed = hash4(uint64_t(uint32_t(px)), uint64_t(uint32_t(py)), seed, 0x6b617572u);
+    uint64_t h = hash4(uint64_t(uint32_t(px)), uint64_t(uint32_t(py)), seed, 0x6b617572u);
+    pixel_seed = uint32_t(h ^ (h >> 32));
     index = sample_index;
     dimension = 0;
     if (type == SamplerType::Independent) rng.set_sequence(pixel_seed, mix_bits(sample_index + 1));
   }
   KAURI_HOST_DEVICE Float get_1d() {
     if (type == SamplerType::Independent) return rng.next_float();
-    return owen_sobol_sample(index, dimension++, pixel_seed);
+    // Consecutive 1D requests take the two coordinates of one stratified pair.
+    Vec2 p = owen_sobol_2d(index, dimension >> 1, pixel_seed);
+    Float v = (dimension & 1) ? p.y : p.x;
+    ++dimension;
+    return v;
   }
   /// 2D values always start on an even dimension so the pair is a stratified 2D set.
   KAURI_HOST_DEVICE Vec2 get_2d() {
@@ -34,10 +39,9 @@ struct Sampler {
       return {a, rng.next_float()};
     }
     dimension += dimension & 1;
-    Float a = owen_sobol_sample(index, dimension, pixel_seed);
-    Float b = owen_sobol_sample(index, dimension + 1, pixel_seed);
+    Vec2 p = owen_sobol_2d(index, dimension >> 1, pixel_seed);
     dimension += 2;
-    return {a, b};
+    return p;
   }
 };
 

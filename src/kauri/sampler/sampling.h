@@ -126,7 +126,11 @@ struct Distribution1D {
     Float du = width > 0 ? (u - cdf[i]) / width : Float(0.5);
     if (pdf) *pdf = integral > 0 ? func[i] / integral : 0;
     if (bin) *bin = i;
-    return fmin_((Float(i) + du) / Float(n), kOneMinusEpsilon);
+    Float x = fmin_((Float(i) + du) / Float(n), kOneMinusEpsilon);
+    // With du within an ulp of 1, (i + du)/n rounds onto the next bin's edge; keep x
+    // in bin i so that pdf(x) agrees with the density reported here.
+    while (x > 0 && int(x * Float(n)) > i && i < n - 1) x = bits_as_float(float_as_bits(x) - 1);
+    return x;
   }
   /// Discrete sample: bin i with probability func[i]·(1/n)/integral. `u_remapped` gets
   /// u rescaled to [0,1) within the bin, so one number can drive a further choice.

@@ -14,18 +14,27 @@ namespace kauri {
 
 namespace sobol_detail {
 /// Direction numbers of Sobol' dimension 1 (primitive polynomial x + 1, m_1 = 1):
-/// m_i = 2 m_{i-1} xor m_{i-1}, v_i = m_i << (32 - i).
-struct Dim1Directions {
-  uint32_t v[32];
-  constexpr Dim1Directions() : v{} {
+/// m_i = 2 m_{i-1} xor m_{i-1}, v_i = m_i << (32 - i), folded into byte tables so
+/// the generator-matrix product is 4 lookups instead of a 32-step loop.
+struct Dim1Tables {
+  uint32_t t[4][256];
+  constexpr Dim1Tables() : t{} {
+    uint32_t v[32] = {};
     uint32_t m = 1;
     for (int i = 1; i <= 32; ++i) {
       if (i > 1) m = (m << 1) ^ m;
       v[i - 1] = m << (32 - i);
     }
+    for (int byte = 0; byte < 4; ++byte)
+      for (int x = 0; x < 256; ++x) {
+        uint32_t r = 0;
+        for (int bit = 0; bit < 8; ++bit)
+          if (x & (1 << bit)) r ^= v[8 * byte + bit];
+        t[byte][x] = r;
+      }
   }
 };
-inline constexpr Dim1Directions kDim1{};
+inline constexpr Dim1Tables kDim1{};
 }  // namespace sobol_detail
 
 KAURI_HOST_DEVICE inline uint32_t reverse_bits32(uint32_t v) {
@@ -43,10 +52,8 @@ KAURI_HOST_DEVICE inline uint32_t reverse_bits32(uint32_t v) {
 /// Sobol' dimension 0 (van der Corput) and 1 as 32-bit fixed point.
 KAURI_HOST_DEVICE inline uint32_t sobol_u32(uint32_t index, int dim) {
   if (dim == 0) return reverse_bits32(index);
-  uint32_t x = 0;
-  for (int bit = 0; index; index >>= 1, ++bit)
-    if (index & 1) x ^= sobol_detail::kDim1.v[bit];
-  return x;
+  const auto& t = sobol_detail::kDim1.t;
+  return t[0][index & 0xff] ^ t[1][(index >> 8) & 0xff] ^ t[2][(index >> 16) & 0xff] ^ t[3][index >> 24];
 }
 
 /// Laine–Karras style hash that acts as an Owen scramble on reversed bits
@@ -63,15 +70,29 @@ KAURI_HOST_DEVICE inline uint32_t nested_uniform_scramble(uint32_t x, uint32_t s
   return reverse_bits32(laine_karras_permutation(reverse_bits32(x), seed));
 }
 
-/// One coordinate of the padded Owen-scrambled Sobol' sequence.
-/// `dimension` counts 1D dimensions; pairs (2k, 2k+1) form a 2D stratified set.
-KAURI_HOST_DEVICE inline Float owen_sobol_sample(uint32_t index, uint32_t dimension, uint64_t pixel_seed) {
-  uint32_t pair = dimension >> 1;
-  uint32_t pair_seed = uint32_t(hash_combine(pixel_seed, pair));
-  uint32_t shuffled = nested_uniform_scramble(index, pair_seed);
-  uint32_t x = sobol_u32(shuffled, int(dimension & 1));
-  uint32_t dim_seed = uint32_t(hash_combine(pixel_seed, 0x10000u + dimension));
-  return u32_to_unit(nested_uniform_scramble(x, dim_seed));
+/// 32-bit integer hash with low bias (C. Wellons' "lowbias32" constants).
+KAURI_HOST_DEVICE inline uint32_t hash_u32(uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return x;
+}
+
+/// One 2D point of the padded Owen-scrambled Sobol' sequence: dimensions
+/// (2·pair, 2·pair + 1) form a scrambled (0,2)-sequence in [0,1)².
+KAURI_HOST_DEVICE inline Vec2 owen_sobol_2d(uint32_t index, uint32_t pair, uint32_t pixel_seed) {
+  uint32_t shuffled = nested_uniform_scramble(index, hash_u32(pixel_seed ^ (pair * 0x9e3779b9u)));
+  uint32_t x = nested_uniform_scramble(sobol_u32(shuffled, 0), hash_u32(pixel_seed ^ (pair * 0x85ebca6bu + 1u)));
+  uint32_t y = nested_uniform_scramble(sobol_u32(shuffled, 1), hash_u32(pixel_seed ^ (pair * 0xc2b2ae35u + 2u)));
+  return {u32_to_unit(x), u32_to_unit(y)};
+}
+
+/// One coordinate of the padded sequence; `dimension` counts 1D dimensions.
+KAURI_HOST_DEVICE inline Float owen_sobol_sample(uint32_t index, uint32_t dimension, uint32_t pixel_seed) {
+  Vec2 p = owen_sobol_2d(index, dimension >> 1, pixel_seed);
+  return (dimension & 1) ? p.y : p.x;
 }
 
 }  // namespace kauri
