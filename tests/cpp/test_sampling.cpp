@@ -444,20 +444,29 @@ TEST(Sobol, UniformAcrossPixels) {
 }
 
 TEST(Sobol, UniformWithinOnePixel) {
-  // 2^20 points of one pixel and pair (stratified: the test is one-sided, so it
-  // only catches gross non-uniformity such as a bad scramble).
-  uint32_t idx = 0;
-  auto sample = [&](PCG32&, double* x, double* y) {
+  // Random sample indices of one pixel and pair: a random subset of one pixel's
+  // scrambled sequence must be uniform (consecutive indices are stratified, which
+  // FirstPointsOfEveryPairAreA02Net checks exactly).
+  auto sample = [&](PCG32& r, double* x, double* y) {
     Sampler s = sobol_sampler();
-    s.start_pixel_sample(12, 34, idx++, 5);
+    s.start_pixel_sample(12, 34, r.next_u32(), 5);
     s.get_2d();
     Vec2 p = s.get_2d();
     *x = double(p.x);
     *y = double(p.y);
     return true;
   };
-  RectChi2Config cfg{"sobol one pixel", 0, 1, 0, 1, 32, 32, 1 << 20, 72};
+  RectChi2Config cfg{"sobol one pixel, random indices", 0, 1, 0, 1, 32, 32, 1000000, 72};
   EXPECT_TRUE(test::rect_chi2(sample, [](double, double) { return 1.0; }, cfg));
+  // And the first 2^20 consecutive indices fill every cell of a 32×32 grid equally.
+  std::vector<int> grid(1024, 0);
+  Sampler s = sobol_sampler();
+  for (uint32_t i = 0; i < (1u << 20); ++i) {
+    s.start_pixel_sample(12, 34, i, 5);
+    Vec2 p = s.get_2d();
+    ++grid[size_t(int(p.y * 32) * 32 + int(p.x * 32))];
+  }
+  EXPECT_TRUE(std::all_of(grid.begin(), grid.end(), [](int c) { return c == 1024; }));
 }
 
 TEST(Sobol, PairsAreDecorrelated) {

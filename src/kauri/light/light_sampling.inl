@@ -5,6 +5,13 @@ namespace kauri {
 
 namespace light_detail {
 
+/// 1 − cosθ_max of the cone a sphere (radius² r2, centre at distance² d2) subtends,
+/// as sin²θ_max / (1 + cosθ_max): no cancellation when the sphere is small and far.
+KAURI_HOST_DEVICE inline Float sphere_one_minus_cos_max(Float r2, Float d2) {
+  Float sin2_max = r2 / d2;
+  return sin2_max / (1 + safe_sqrt(1 - sin2_max));
+}
+
 KAURI_HOST_DEVICE inline LightSample sample_sphere(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda) {
   LightSample s;
   Vec3 to_c = l.p0 - p;
@@ -21,19 +28,24 @@ KAURI_HOST_DEVICE inline LightSample sample_sphere(const Light& l, Point3 p, Vec
     s.pdf = area_to_solid_angle(1 / l.area, p, s.p_light, n);
   } else {
     // Uniform cone of directions subtended by the sphere; pdf 1/(2π(1−cosθ_max)).
+    // 1 − cosθ is carried directly: for small, distant spheres cosθ_max rounds to
+    // within a few ulps of 1 and the cone would not match the sphere.
     Float d = std::sqrt(d2);
-    Float sin2_max = r2 / d2;
-    Float cos_max = safe_sqrt(1 - sin2_max);
+    Float one_minus_cos_max = sphere_one_minus_cos_max(r2, d2);
+    Float one_minus_cos = u.x * one_minus_cos_max;
+    Float sin_t = safe_sqrt(one_minus_cos * (2 - one_minus_cos));
+    Float phi = 2 * kPi * u.y;
     Frame f = Frame::from_z(to_c / d);
-    Vec3 w = f.to_world(sample_uniform_cone(u, cos_max));
-    // Nearest intersection of the ray with the sphere (stable form).
+    Vec3 w = f.to_world({sin_t * std::cos(phi), sin_t * std::sin(phi), 1 - one_minus_cos});
+    // Nearest intersection of the ray with the sphere; the discriminant from the
+    // perpendicular offset avoids the cancellation in d² − b² (Haines et al. 2019).
     Float b = dot(w, to_c);
-    Float disc = r2 - (d2 - b * b);
+    Float disc = r2 - length_squared(to_c - w * b);
     Float t = b - safe_sqrt(disc);
     s.wi = w;
     s.p_light = p + w * t;
     s.n_light = normalize(s.p_light - l.p0);
-    s.pdf = uniform_cone_pdf(cos_max);
+    s.pdf = 1 / (2 * kPi * one_minus_cos_max);
   }
   s.L = area_light_L(l, s.n_light, -s.wi, lambda);
   return s;
@@ -110,7 +122,9 @@ KAURI_HOST_DEVICE inline LightSample sample_light(const Light& l, Point3 p, Vec2
       } else {
         s.wi = l.frame.to_world(sample_uniform_cone(u, l.cos_max));
         s.pdf = uniform_cone_pdf(l.cos_max);
-        s.L = infinite_light_Le(l, s.wi, lambda);
+        // Inside the cone by construction: re-testing dot(wi, −n) >= cos_max in float
+        // rejects a good part of a small cone's edge (3% of a 0.1° sun).
+        s.L = l.Le.sample(lambda) / (kPi * (1 - l.cos_max) * (1 + l.cos_max));
       }
       s.p_light = p + s.wi * (2 * l.scene_radius + distance(p, l.scene_center));
       return s;
@@ -133,10 +147,10 @@ KAURI_HOST_DEVICE inline Float light_pdf(const Light& l, Point3 p, Vec3 wi, Poin
     case LightType::Sphere: {
       Float d2 = length_squared(l.p0 - p), r2 = l.radius * l.radius;
       if (d2 <= r2 * 1.0001f) return area_to_solid_angle(1 / l.area, p, p_light, n_light);
-      return uniform_cone_pdf(safe_sqrt(1 - r2 / d2));
+      return 1 / (2 * kPi * light_detail::sphere_one_minus_cos_max(r2, d2));
     }
     case LightType::Distant:
-      if (l.cos_max < 1 && dot(wi, -l.n) >= l.cos_max) return uniform_cone_pdf(l.cos_max);
+      if (distant_cone_contains(l, wi)) return uniform_cone_pdf(l.cos_max);
       return 0;
     case LightType::EnvConstant: return uniform_sphere_pdf();
     case LightType::EnvMap: {

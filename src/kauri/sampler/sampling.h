@@ -127,9 +127,10 @@ struct Distribution1D {
     if (pdf) *pdf = integral > 0 ? func[i] / integral : 0;
     if (bin) *bin = i;
     Float x = fmin_((Float(i) + du) / Float(n), kOneMinusEpsilon);
-    // With du within an ulp of 1, (i + du)/n rounds onto the next bin's edge; keep x
-    // in bin i so that pdf(x) agrees with the density reported here.
-    while (x > 0 && int(x * Float(n)) > i && i < n - 1) x = bits_as_float(float_as_bits(x) - 1);
+    // Rounding of (i + du)/n can put x in a neighbouring bin (du within an ulp of 0
+    // or 1); keep it in bin i so that pdf(x) agrees with the density reported here.
+    while (int(x * Float(n)) < i) x = bits_as_float(float_as_bits(x) + 1);
+    while (i < n - 1 && int(x * Float(n)) > i) x = bits_as_float(float_as_bits(x) - 1);
     return x;
   }
   /// Discrete sample: bin i with probability func[i]·(1/n)/integral. `u_remapped` gets
