@@ -5,8 +5,8 @@ Build a scene with :class:`Scene`, materials (:class:`Lambert`, :class:`Dielectr
 """
 from . import _core
 from .render import RenderOutput, render
-from .scene import Conductor, Dielectric, Emission, Lambert, Material, Scene, SceneError
+from .scene import Attribute, Conductor, Dielectric, Emission, Lambert, Lobe, Material, Scene, SceneError
 
 __version__ = _core.__version__
-__all__ = ["Scene", "Lambert", "Dielectric", "Conductor", "Emission", "Material", "SceneError", "render",
+__all__ = ["Scene", "Lambert", "Dielectric", "Conductor", "Emission", "Material", "Lobe", "Attribute", "SceneError", "render",
            "RenderOutput", "__version__"]

@@ -49,18 +49,40 @@ def _check_keys(obj: str, given: dict, allowed: Sequence[str]) -> None:
                          f"allowed: {', '.join(allowed)}")
 
 
-# ---------------------------------------------------------------- materials
+# ---------------------------------------------------------------- lobes and materials
 
-class Material:
-    """Base class; a material is registered with a scene the first time it is used."""
+class Attribute:
+    """A per-vertex input: the mesh attribute ``name`` (given to add_mesh(attributes=...)),
+    times ``scale``. Usable wherever a weight is expected."""
+
+    def __init__(self, name: str, scale: float = 1.0):
+        if not isinstance(name, str) or not name:
+            raise SceneError(f"Attribute: expected a non-empty name, got {name!r}")
+        self.name = name
+        self.scale = _number(f"attribute '{name}'", "scale", scale, 0)
+
+
+def _weight(obj: str, param: str, value) -> dict:
+    if isinstance(value, Attribute):
+        return {"weight": value.scale, "weight_attribute": value.name}
+    return {"weight": _number(obj, param, value, 0, 1)}
+
+
+class Lobe:
+    """A BSDF lobe description. A lobe used where a material is expected is a
+    single-lobe material."""
     kind = ""
 
     def __init__(self, name: str, **params):
         self.name = name or self.kind
         self.params = params
 
+    def to_dict(self, name: str, weight) -> dict:
+        return {"name": name, "type": self.kind, **self.params,
+                **_weight(f"lobe '{name}'", "weight", weight)}
 
-class Lambert(Material):
+
+class Lambert(Lobe):
     """Lambertian diffuse reflector (``lambert@1``). ``albedo``: RGB in the working space, in [0, 1]."""
     kind = "lambert"
 
@@ -73,7 +95,7 @@ class Lambert(Material):
         super().__init__(name, albedo=a)
 
 
-class Dielectric(Material):
+class Dielectric(Lobe):
     """Smooth dielectric (``smooth_dielectric@1``): glass, water.
 
     ``ior`` at 587.6 nm; ``abbe`` > 0 adds dispersion (Cauchy fit; e.g. 64 for BK7).
@@ -87,10 +109,10 @@ class Dielectric(Material):
                          abbe=_number(obj, "abbe", abbe, 0, 1000))
 
 
-class Conductor(Material):
+class Conductor(Lobe):
     """Rough GGX conductor (``ggx_conductor@1``) with a spectral complex IOR.
 
-    Give ``metal`` (measured data: Au, Ag, Cu, Al, Cr, Fe, Ti) or RGB ``eta`` and ``k``.
+    Give ``metal`` (measured data: Au, Ag, Cu, Al, Cr) or RGB ``eta`` and ``k``.
     ``roughness`` in [0, 1] (α = roughness²), ``anisotropy`` in [-1, 1].
     """
     kind = "conductor"
@@ -111,6 +133,126 @@ class Conductor(Material):
         super().__init__(name, metal=metal, eta=eta, k=k,
                          roughness=_number(obj, "roughness", roughness, 0, 1),
                          anisotropy=_number(obj, "anisotropy", anisotropy, -1, 1))
+
+
+LOBE_TYPES = {"lambert": Lambert, "dielectric": Dielectric, "conductor": Conductor}
+OPERATORS = ("mix", "coat", "blend", "add")
+
+
+class Material:
+    """A layered material (Manuka-style, course notes §8.4): named lobes combined by
+    operators into a tree. Reads like the notes' shader code::
+
+        paint = kauri.Material("car_paint")
+        paint.add_lobe("flakes", kauri.Conductor(metal="Al", roughness=0.4))
+        paint.add_lobe("clear", kauri.Dielectric(ior=1.5))
+        paint.combine("paint", "coat", "clear", "flakes")
+
+    ``coat`` puts its first input on top of the second; ``mix`` normalises the weights of
+    2–8 inputs; ``blend`` substitutes the second input where the first is absent; ``add``
+    is for emission and becomes ``coat`` (with a warning) on scattering lobes.
+    ``symmetric=False`` makes the stack single-sided: seen from behind, it is evaluated
+    in inverse order. ``ior_accumulation`` / ``roughness_accumulation`` make lobes under
+    a layer see its IOR and be at least as rough as it.
+    """
+
+    def __init__(self, name: str = "material", symmetric: bool = True, ior_accumulation: bool = False,
+                 roughness_accumulation: bool = False, root: str = "", **extra):
+        _check_keys(f"material '{name}'", extra, [])
+        self.name = name
+        self.symmetric = bool(symmetric)
+        self.ior_accumulation = bool(ior_accumulation)
+        self.roughness_accumulation = bool(roughness_accumulation)
+        self.root = root
+        self.lobes: list[dict] = []
+        self.layers: list[dict] = []
+        self._names: set[str] = set()
+
+    def _new_name(self, name: str) -> str:
+        if not isinstance(name, str) or not name:
+            raise SceneError(f"material '{self.name}': node names must be non-empty strings, got {name!r}")
+        if name in self._names:
+            raise SceneError(f"material '{self.name}', node '{name}': duplicate node name")
+        self._names.add(name)
+        return name
+
+    def add_lobe(self, name: str, lobe: Lobe, weight=1.0) -> "Material":
+        """Adds lobe ``lobe`` as node ``name`` with weight w_b (a number in [0, 1] or an Attribute)."""
+        if not isinstance(lobe, Lobe):
+            raise SceneError(f"material '{self.name}', node '{name}': expected a lobe "
+                             f"(Lambert, Dielectric, Conductor), got {type(lobe).__name__}")
+        obj = f"material '{self.name}', node '{name}'"
+        self._new_name(name)
+        self.lobes.append({"name": name, "type": lobe.kind, **lobe.params, **_weight(obj, "weight", weight)})
+        return self
+
+    def combine(self, name: str, op: str, *inputs: str, weight=1.0) -> "Material":
+        """Adds operator node ``name`` = op(inputs...) with layer weight w_l."""
+        obj = f"material '{self.name}', node '{name}'"
+        if op not in OPERATORS:
+            raise SceneError(f"{obj}: unknown operator {op!r}; expected one of {', '.join(OPERATORS)}")
+        for i in inputs:
+            if not isinstance(i, str):
+                raise SceneError(f"{obj}: inputs are node names, got {type(i).__name__}")
+        self._new_name(name)
+        self.layers.append({"name": name, "op": op, "inputs": list(inputs), **_weight(obj, "weight", weight)})
+        return self
+
+    @classmethod
+    def from_dict(cls, data: dict, source: str = "<dict>") -> "Material":
+        """Builds a material from the plain-data form used by material files (see docs/materials.md)."""
+        where = f"{source}: material"
+        if not isinstance(data, dict):
+            raise SceneError(f"{where}: expected an object, got {type(data).__name__}")
+        _check_keys(where, data, ["name", "symmetric", "ior_accumulation", "roughness_accumulation", "root",
+                                  "lobes", "layers"])
+        m = cls(name=data.get("name", "material"), symmetric=data.get("symmetric", True),
+                ior_accumulation=data.get("ior_accumulation", False),
+                roughness_accumulation=data.get("roughness_accumulation", False), root=data.get("root", ""))
+        for i, spec in enumerate(data.get("lobes", [])):
+            if not isinstance(spec, dict):
+                raise SceneError(f"{source}: material '{m.name}': lobes[{i}]: expected an object")
+            spec = dict(spec)
+            name, kind = spec.pop("name", None), spec.pop("type", None)
+            if kind not in LOBE_TYPES:
+                raise SceneError(f"{source}: material '{m.name}', node '{name}': unknown lobe type {kind!r}; "
+                                 f"expected one of {', '.join(LOBE_TYPES)}")
+            weight = _parse_weight(spec.pop("weight", 1.0))
+            try:
+                lobe = LOBE_TYPES[kind](**spec)
+            except SceneError as e:
+                raise SceneError(f"{source}: material '{m.name}', node '{name}': {e}") from None
+            except TypeError as e:
+                raise SceneError(f"{source}: material '{m.name}', node '{name}': {e}") from None
+            m.add_lobe(name, lobe, weight)
+        for i, spec in enumerate(data.get("layers", [])):
+            if not isinstance(spec, dict):
+                raise SceneError(f"{source}: material '{m.name}': layers[{i}]: expected an object")
+            _check_keys(f"{source}: material '{m.name}', layers[{i}]", spec, ["name", "op", "inputs", "weight"])
+            m.combine(spec.get("name"), spec.get("op"), *spec.get("inputs", []),
+                      weight=_parse_weight(spec.get("weight", 1.0)))
+        return m
+
+    @classmethod
+    def load(cls, path: str) -> list:
+        """Reads a material file (JSON): one material object or {"materials": [...]}."""
+        import json
+        try:
+            with open(path) as f:
+                data = json.load(f)
+        except json.JSONDecodeError as e:
+            raise SceneError(f"{path}:{e.lineno}:{e.colno}: invalid JSON: {e.msg}") from None
+        except OSError as e:
+            raise SceneError(f"{path}: cannot read: {e.strerror}") from None
+        items = data.get("materials", [data]) if isinstance(data, dict) else data
+        return [cls.from_dict(d, path) for d in items]
+
+
+def _parse_weight(w):
+    """Material-file weights: a number, or {"attribute": name, "scale": s}."""
+    if isinstance(w, dict):
+        return Attribute(w.get("attribute", ""), w.get("scale", 1.0))
+    return w
 
 
 @dataclass
@@ -155,27 +297,34 @@ class Scene:
         self.has_camera = False
 
     # -- materials
-    def _material_id(self, obj: str, material: Optional[Material]) -> int:
+    def _material_id(self, obj: str, material) -> int:
         if material is None:
             return -1
-        if not isinstance(material, Material):
-            raise SceneError(f"{obj}: parameter 'material': expected a kauri material "
-                             f"(Lambert, Dielectric, Conductor), got {type(material).__name__}")
-        key = id(material)
-        if key not in self._materials:
-            p = material.params
-            if isinstance(material, Lambert):
-                mid = self._core.add_lambert(material.name, p["albedo"])
-            elif isinstance(material, Dielectric):
-                mid = self._core.add_dielectric(material.name, p["ior"], p["abbe"])
-            elif isinstance(material, Conductor):
-                mid = self._core.add_conductor(material.name, p["metal"], p["eta"], p["k"],
-                                               p["roughness"], p["anisotropy"])
-            else:
-                raise SceneError(f"{obj}: parameter 'material': unsupported material type {type(material).__name__}")
-            self._materials[key] = mid
-            self._material_objs.append(material)  # keep alive so id() stays unique
-        return self._materials[key]
+        if isinstance(material, Lobe):
+            key = id(material)
+            if key not in self._materials:
+                m = Material(name=material.name)
+                m.add_lobe(material.name, material)
+                self._materials[key] = self._register(m)
+                self._material_objs.append(material)  # keep alive so id() stays unique
+            return self._materials[key]
+        if isinstance(material, Material):
+            key = id(material)
+            if key not in self._materials:
+                self._materials[key] = self._register(material)
+                self._material_objs.append(material)
+            return self._materials[key]
+        raise SceneError(f"{obj}: parameter 'material': expected a kauri material or lobe "
+                         f"(Material, Lambert, Dielectric, Conductor), got {type(material).__name__}")
+
+    def _register(self, m: Material) -> int:
+        import warnings
+        before = len(self._core.warnings())
+        mid = self._core.add_material(m.name, m.lobes, m.layers, m.root, m.symmetric, m.ior_accumulation,
+                                      m.roughness_accumulation)
+        for w in self._core.warnings()[before:]:
+            warnings.warn(w, stacklevel=3)
+        return mid
 
     def _group_id(self, obj: str, group: Optional[str]) -> int:
         if group is None:
@@ -193,10 +342,12 @@ class Scene:
         return (True,) + emission.resolved(obj)
 
     # -- geometry
-    def add_mesh(self, positions, indices, normals=None, uvs=None, material: Optional[Material] = None,
-                 emission: Optional[Emission] = None, name: str = "mesh", group: Optional[str] = None, **extra):
+    def add_mesh(self, positions, indices, normals=None, uvs=None, material=None,
+                 emission: Optional[Emission] = None, name: str = "mesh", group: Optional[str] = None,
+                 attributes: Optional[dict] = None, **extra):
         """Triangle or quad mesh from NumPy arrays: positions (n, 3), indices (m, 3) or (m, 4),
-        optional per-vertex normals (n, 3) and uvs (n, 2)."""
+        optional per-vertex normals (n, 3), uvs (n, 2) and named float ``attributes`` (n,)
+        that material weights can read through kauri.Attribute."""
         obj = f"mesh '{name}'"
         _check_keys(obj, extra, [])
         P = np.ascontiguousarray(positions, dtype=np.float32)
@@ -217,12 +368,18 @@ class Scene:
         UV = None if uvs is None else np.ascontiguousarray(uvs, dtype=np.float32)
         if UV is not None and UV.shape != (P.shape[0], 2):
             raise SceneError(f"{obj}: parameter 'uvs': expected shape {(P.shape[0], 2)}, got {UV.shape}")
+        attrs = {}
+        for key, values in (attributes or {}).items():
+            A = np.ascontiguousarray(values, dtype=np.float32)
+            if A.shape != (P.shape[0],):
+                raise SceneError(f"{obj}: parameter 'attributes': {key!r} must have shape ({P.shape[0]},), got {A.shape}")
+            attrs[str(key)] = A
         mid = self._material_id(obj, material)
         em = self._emission(obj, emission)
         return self._core.add_mesh(self._group_id(obj, group), name, P, np.ascontiguousarray(I, dtype=np.uint32),
-                                   I.shape[1], N, UV, mid, *em)
+                                   I.shape[1], N, UV, attrs, mid, *em)
 
-    def add_sphere(self, center=(0, 0, 0), radius: float = 1.0, material: Optional[Material] = None,
+    def add_sphere(self, center=(0, 0, 0), radius: float = 1.0, material=None,
                    emission: Optional[Emission] = None, name: str = "sphere", group: Optional[str] = None, **extra):
         obj = f"sphere '{name}'"
         _check_keys(obj, extra, [])
@@ -230,7 +387,7 @@ class Scene:
                                      _number(obj, "radius", radius), self._material_id(obj, material),
                                      *self._emission(obj, emission))
 
-    def add_disk(self, center=(0, 0, 0), normal=(0, 1, 0), radius: float = 1.0, material: Optional[Material] = None,
+    def add_disk(self, center=(0, 0, 0), normal=(0, 1, 0), radius: float = 1.0, material=None,
                  emission: Optional[Emission] = None, name: str = "disk", group: Optional[str] = None, **extra):
         obj = f"disk '{name}'"
         _check_keys(obj, extra, [])

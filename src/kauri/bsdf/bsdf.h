@@ -15,23 +15,24 @@ struct BSDF {
   Normal3 ng;       // geometric normal (world)
   int n_lobes = 0;
   Lobe lobes[kMaxLobes];
-  Float weight[kMaxLobes];
-  Float select_prob[kMaxLobes];  // set by prepare()
+  SampledSpectrum weight[kMaxLobes];  // spectral: a tinted stack tints what lies below it
+  Float select_prob[kMaxLobes];       // set by prepare()
 
-  KAURI_HOST_DEVICE void add(const Lobe& l, Float w) {
-    if (n_lobes < kMaxLobes && w > 0) {
+  KAURI_HOST_DEVICE void add(const Lobe& l, const SampledSpectrum& w) {
+    if (n_lobes < kMaxLobes && w.max_value() > 0) {
       lobes[n_lobes] = l;
       weight[n_lobes] = w;
       ++n_lobes;
     }
   }
+  KAURI_HOST_DEVICE void add(const Lobe& l, Float w) { add(l, SampledSpectrum(w)); }
   /// Lobe selection probabilities ∝ weight × average reflection+transmission albedo.
   KAURI_HOST_DEVICE void prepare(Vec3 wo_world) {
     Vec3 wo = frame.to_local(wo_world);
     Float total = 0;
     for (int i = 0; i < n_lobes; ++i) {
-      Float a = (lobes[i].albedo_r(wo) + lobes[i].albedo_t(wo)).average();
-      select_prob[i] = weight[i] * fmax_(a, 1e-3f);
+      Float a = ((lobes[i].albedo_r(wo) + lobes[i].albedo_t(wo)) * weight[i]).average();
+      select_prob[i] = fmax_(a, 1e-3f * weight[i].average());
       total += select_prob[i];
     }
     for (int i = 0; i < n_lobes; ++i) select_prob[i] = total > 0 ? select_prob[i] / total : 0;

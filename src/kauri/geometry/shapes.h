@@ -9,6 +9,9 @@ namespace kauri {
 
 enum class ShapeType : uint8_t { Mesh, Sphere, Disk };
 
+/// Named per-vertex float inputs (material weights, later texture coordinates).
+inline constexpr int kMaxVertexAttributes = 4;
+
 struct MeshView {
   const Point3* p = nullptr;
   const Normal3* n = nullptr;   // optional per-vertex shading normals
@@ -16,6 +19,7 @@ struct MeshView {
   const uint32_t* index = nullptr;  // 3 per triangle
   uint32_t n_triangles = 0;
   uint32_t n_vertices = 0;
+  const float* attr[kMaxVertexAttributes] = {nullptr, nullptr, nullptr, nullptr};  // per vertex, by scene slot
 };
 struct SphereShape {
   Point3 center;
@@ -55,6 +59,7 @@ struct SurfaceHit {
   Float t = 0;
   int material = -1;
   int light = -1;   // index of the emitter hit, or -1
+  Float attrs[kMaxVertexAttributes] = {0, 0, 0, 0};  // interpolated vertex attributes
 };
 
 KAURI_HOST_DEVICE inline Vec2 sphere_uv(Vec3 n_local) {
@@ -78,6 +83,8 @@ KAURI_HOST_DEVICE inline void triangle_hit(const MeshView& m, uint32_t prim, Flo
   Vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
   Float det = d1.x * d2.y - d1.y * d2.x;
   s->dpdu = std::fabs(det) > 1e-12f ? (e1 * d2.y - e2 * d1.y) / det : e1;
+  for (int a = 0; a < kMaxVertexAttributes; ++a)
+    if (m.attr[a]) s->attrs[a] = m.attr[a][i[0]] * w + m.attr[a][i[1]] * u + m.attr[a][i[2]] * v;
   s->ns = s->ng;
   if (m.n) {
     Normal3 n = m.n[i[0]] * w + m.n[i[1]] * u + m.n[i[2]] * v;

@@ -86,7 +86,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     // Shading frame on the side of ω_o keeps one-sided lobes meaningful.
     Normal3 ns = hit.ns;
     Frame frame = Frame::from_zx(ns, hit.dpdu);
-    build_bsdf(s.materials[hit.material], s.lobes, s.lobe_weights, frame, hit.ng, wo, lambda, &bsdf);
+    build_bsdf(s.materials[hit.material], s.lobes, s.node_weights, hit.attrs, frame, hit.ng, wo, lambda, &bsdf);
     if (!out->albedo_set && (bsdf.has_non_specular() || st.depth + 1 >= cfg.max_depth)) {
       Vec3 wl = frame.to_local(wo);
       SampledSpectrum a(0);

@@ -8,6 +8,7 @@
 #include <nanobind/stl/vector.h>
 
 #include "kauri/film/image_io.h"
+#include "kauri/layer/layer_compiler.h"
 #include "kauri/render/renderer.h"
 #include "kauri/scene/scene.h"
 
@@ -43,6 +44,38 @@ ColorSpaceId parse_cs(const std::string& name) {
   return id;
 }
 
+ScalarInputDesc weight_from_dict(const nb::dict& d) {
+  ScalarInputDesc w;
+  w.value = nb::cast<float>(d["weight"]);
+  if (d.contains("weight_attribute")) w.attribute = nb::cast<std::string>(d["weight_attribute"]);
+  return w;
+}
+
+LobeDesc lobe_from_dict(const nb::dict& d) {
+  LobeDesc l;
+  l.name = nb::cast<std::string>(d["name"]);
+  std::string type = nb::cast<std::string>(d["type"]);
+  if (type == "lambert") {
+    l.type = LobeType::Lambert;
+    l.albedo = v3(nb::cast<Vec3T>(d["albedo"]));
+  } else if (type == "dielectric") {
+    l.type = LobeType::SmoothDielectric;
+    l.ior = nb::cast<float>(d["ior"]);
+    l.abbe = nb::cast<float>(d["abbe"]);
+  } else if (type == "conductor") {
+    l.type = LobeType::GGXConductor;
+    l.metal = nb::cast<std::string>(d["metal"]);
+    l.eta_rgb = v3(nb::cast<Vec3T>(d["eta"]));
+    l.k_rgb = v3(nb::cast<Vec3T>(d["k"]));
+    l.roughness = nb::cast<float>(d["roughness"]);
+    l.anisotropy = nb::cast<float>(d["anisotropy"]);
+  } else {
+    throw std::invalid_argument("lobe '" + l.name + "': unknown lobe type '" + type + "'");
+  }
+  l.weight = weight_from_dict(d);
+  return l;
+}
+
 nb::ndarray<nb::numpy, float> to_numpy(const std::vector<float>& v, std::initializer_list<size_t> shape) {
   auto* copy = new std::vector<float>(v);
   nb::capsule owner(copy, [](void* p) noexcept { delete static_cast<std::vector<float>*>(p); });
@@ -66,33 +99,32 @@ NB_MODULE(_core, m) {
   nb::class_<Scene>(m, "Scene")
       .def(nb::init<>())
       .def("set_color_space", [](Scene& s, const std::string& n) { s.set_color_space(parse_cs(n)); })
-      .def("add_lambert", [](Scene& s, const std::string& name, Vec3T albedo) {
-        MaterialDesc d;
-        d.name = name;
-        d.type = LobeType::Lambert;
-        d.albedo = v3(albedo);
-        return s.add_material(d);
+      .def("add_material", [](Scene& s, const std::string& name, nb::list lobes, nb::list layers,
+                              const std::string& root, bool symmetric, bool ior_acc, bool rough_acc) {
+        MaterialDesc m;
+        m.name = name;
+        m.root = root;
+        m.symmetric = symmetric;
+        m.ior_accumulation = ior_acc;
+        m.roughness_accumulation = rough_acc;
+        for (nb::handle h : lobes) m.lobes.push_back(lobe_from_dict(nb::cast<nb::dict>(h)));
+        for (nb::handle h : layers) {
+          nb::dict d = nb::cast<nb::dict>(h);
+          LayerDesc l;
+          l.name = nb::cast<std::string>(d["name"]);
+          std::string op = nb::cast<std::string>(d["op"]);
+          if (op == "mix") l.op = LayerOp::Mix;
+          else if (op == "coat") l.op = LayerOp::Coat;
+          else if (op == "blend") l.op = LayerOp::Blend;
+          else if (op == "add") l.op = LayerOp::Add;
+          else throw std::invalid_argument("material '" + name + "', node '" + l.name + "': unknown operator '" + op + "'");
+          for (nb::handle in : nb::cast<nb::list>(d["inputs"])) l.inputs.push_back(nb::cast<std::string>(in));
+          l.weight = weight_from_dict(d);
+          m.layers.push_back(std::move(l));
+        }
+        return s.add_material(m);
       })
-      .def("add_dielectric", [](Scene& s, const std::string& name, float ior, float abbe) {
-        MaterialDesc d;
-        d.name = name;
-        d.type = LobeType::SmoothDielectric;
-        d.ior = ior;
-        d.abbe = abbe;
-        return s.add_material(d);
-      })
-      .def("add_conductor", [](Scene& s, const std::string& name, const std::string& metal, Vec3T eta, Vec3T k,
-                               float roughness, float anisotropy) {
-        MaterialDesc d;
-        d.name = name;
-        d.type = LobeType::GGXConductor;
-        d.metal = metal;
-        d.eta_rgb = v3(eta);
-        d.k_rgb = v3(k);
-        d.roughness = roughness;
-        d.anisotropy = anisotropy;
-        return s.add_material(d);
-      })
+      .def("warnings", [](const Scene& s) { return s.warnings(); })
       .def("add_group", &Scene::add_group)
       .def("add_instance", [](Scene& s, const std::string& name, int group, const FloatArray& xf) {
         double rows[3][4];
@@ -101,8 +133,8 @@ NB_MODULE(_core, m) {
       })
       .def("add_mesh", [](Scene& s, int group, const std::string& name, const FloatArray& positions,
                           const IndexArray& indices, int face_size, std::optional<FloatArray> normals,
-                          std::optional<FloatArray> uvs, int material, bool emissive, Vec3T color, float intensity,
-                          float temperature, bool two_sided) {
+                          std::optional<FloatArray> uvs, nb::dict attributes, int material, bool emissive,
+                          Vec3T color, float intensity, float temperature, bool two_sided) {
         MeshDesc d;
         d.name = name;
         d.positions = to_vector(positions);
@@ -110,12 +142,13 @@ NB_MODULE(_core, m) {
         d.face_size = face_size;
         if (normals) d.normals = to_vector(*normals);
         if (uvs) d.uvs = to_vector(*uvs);
+        for (auto [k, v] : attributes) d.attributes[nb::cast<std::string>(k)] = to_vector(nb::cast<FloatArray>(v));
         d.material = material;
         d.emissive = emissive;
         d.emission = emission(color, intensity, temperature, two_sided);
         return s.add_mesh(group, std::move(d));
       }, "group"_a, "name"_a, "positions"_a, "indices"_a, "face_size"_a, "normals"_a.none(), "uvs"_a.none(),
-         "material"_a, "emissive"_a, "color"_a, "intensity"_a, "temperature"_a, "two_sided"_a)
+         "attributes"_a, "material"_a, "emissive"_a, "color"_a, "intensity"_a, "temperature"_a, "two_sided"_a)
       .def("add_sphere", [](Scene& s, int group, const std::string& name, Vec3T center, float radius, int material,
                             bool emissive, Vec3T color, float intensity, float temperature, bool two_sided) {
         SphereDesc d{name, v3(center), radius, material, emissive, emission(color, intensity, temperature, two_sided)};

@@ -53,8 +53,8 @@ void Scene::check_material(int material, const std::string& what) const {
     fail(what, "material", "unknown material id " + std::to_string(material));
 }
 
-int Scene::add_material(const MaterialDesc& m) {
-  std::string obj = quoted("material", m.name);
+namespace {
+void check_lobe(const std::string& obj, const LobeDesc& m) {
   switch (m.type) {
     case LobeType::Lambert:
       check_finite(obj, "albedo", m.albedo);
@@ -78,8 +78,23 @@ int Scene::add_material(const MaterialDesc& m) {
         if (m.k_rgb.x < 0 || m.k_rgb.y < 0 || m.k_rgb.z < 0) fail(obj, "k", "components must be >= 0");
       }
       break;
+    default:
+      throw std::invalid_argument(obj + ": this lobe type is not available in materials yet");
   }
+}
+}  // namespace
+
+int Scene::add_material(const MaterialDesc& m) {
+  for (const LobeDesc& l : m.lobes) {
+    // Single-lobe materials keep the short form "material 'x'" in messages.
+    std::string obj = m.lobes.size() == 1 && m.layers.empty() ? quoted("material", m.name)
+                                                               : "material '" + m.name + "', node '" + l.name + "'";
+    check_lobe(obj, l);
+  }
+  CompiledMaterial c = compile_material(m);  // validates the graph
+  for (const std::string& w : c.warnings) warnings_.push_back(w);
   materials_.push_back(m);
+  compiled_materials_.push_back(std::move(c));
   return int(materials_.size()) - 1;
 }
 
@@ -121,6 +136,11 @@ int Scene::add_mesh(int group, MeshDesc m) {
     if (m.normals.size() != m.positions.size()) fail(obj, "normals", "must have one normal per vertex");
     for (float v : m.normals)
       if (!std::isfinite(v)) fail(obj, "normals", "must be finite");
+  }
+  for (const auto& [name, values] : m.attributes) {
+    if (values.size() != nv) fail(obj, "attributes", "'" + name + "' must have one value per vertex");
+    for (float v : values)
+      if (!std::isfinite(v)) fail(obj, "attributes", "'" + name + "' must be finite");
   }
   if (!m.uvs.empty()) {
     if (m.uvs.size() != 2 * nv) fail(obj, "uvs", "must have one (u, v) pair per vertex");

@@ -5,11 +5,14 @@
 #pragma once
 
 #include <array>
+#include <deque>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "kauri/accel/embree_accel.h"
+#include "kauri/layer/layer_compiler.h"
 #include "kauri/sampler/distribution.h"
 #include "kauri/scene/scene_view.h"
 #include "kauri/spectral/color_space.h"
@@ -25,16 +28,6 @@ struct EmissionDesc {
   bool two_sided = false;
 };
 
-struct MaterialDesc {
-  std::string name;
-  LobeType type = LobeType::Lambert;
-  Vec3 albedo{0.8f, 0.8f, 0.8f};   // Lambert
-  Float ior = 1.5f, abbe = 0;      // dielectric
-  std::string metal;               // conductor: measured IOR by name, or
-  Vec3 eta_rgb{0, 0, 0}, k_rgb{0, 0, 0};  // conductor: RGB η, κ (used when metal is empty)
-  Float roughness = 0.3f, anisotropy = 0;
-};
-
 struct MeshDesc {
   std::string name;
   std::vector<float> positions;   // 3 per vertex
@@ -42,6 +35,7 @@ struct MeshDesc {
   int face_size = 3;              // 3 (triangles) or 4 (quads, split into two triangles)
   std::vector<float> normals;     // optional, 3 per vertex
   std::vector<float> uvs;         // optional, 2 per vertex
+  std::map<std::string, std::vector<float>> attributes;  // optional named per-vertex floats
   int material = -1;
   bool emissive = false;
   EmissionDesc emission;
@@ -110,6 +104,8 @@ class Scene {
   std::unique_ptr<CompiledScene> compile(int width, int height) const;
 
   size_t material_count() const { return materials_.size(); }
+  /// Warnings raised while adding materials (e.g. an 'add' turned into a 'coat').
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
  private:
   struct Shape {
@@ -137,6 +133,8 @@ class Scene {
   friend class CompiledScene;
   ColorSpaceId color_space_ = ColorSpaceId::ACEScg;
   std::vector<MaterialDesc> materials_;
+  std::vector<CompiledMaterial> compiled_materials_;
+  std::vector<std::string> warnings_;
   std::vector<Group> groups_;
   std::vector<Instance> instances_;
   std::vector<LightDesc> lights_;
@@ -151,6 +149,9 @@ class CompiledScene {
   const EmbreeAccel& accel() const { return accel_; }
   size_t bytes() const { return bytes_; }
   int light_count() const { return view_.n_lights; }
+  /// Distinct layer-program layouts (identical ones are stored once) and materials.
+  int layout_count() const { return int(layouts_.size()); }
+  int material_count() const { return int(materials_.size()); }
 
  private:
   friend class Scene;
@@ -165,7 +166,9 @@ class CompiledScene {
   std::vector<int> emitter_first_light_;
   std::vector<MaterialView> materials_;
   std::vector<LobeParams> lobes_;
-  std::vector<Float> lobe_weights_;
+  std::vector<ScalarInput> node_weights_;
+  std::vector<std::unique_ptr<LayerLayout>> layouts_;  // unique layouts, shared by materials
+  std::deque<std::vector<float>> attribute_arrays_;  // deque: element addresses stay put
   std::vector<Light> lights_;
   std::vector<int> infinite_lights_;
   std::vector<std::vector<EnvTexel>> env_texels_;
@@ -176,6 +179,7 @@ class CompiledScene {
     std::vector<Normal3> n;
     std::vector<Vec2> uv;
     std::vector<uint32_t> index;
+    const float* attr[kMaxVertexAttributes] = {nullptr, nullptr, nullptr, nullptr};
   };
   std::vector<std::unique_ptr<MeshArrays>> meshes_;
   size_t bytes_ = 0;

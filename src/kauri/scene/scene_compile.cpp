@@ -1,5 +1,6 @@
 // Scene::compile: description → render-ready arrays, lights and Embree scenes.
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include "kauri/scene/scene.h"
@@ -22,7 +23,7 @@ Spectrum emission_of(const EmissionDesc& e, const RGBColorSpace& cs) {
   return s;
 }
 
-LobeParams lobe_params(const MaterialDesc& m, const RGBColorSpace& cs) {
+LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs) {
   LobeParams p;
   p.type = m.type;
   switch (m.type) {
@@ -167,17 +168,61 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   auto out = std::unique_ptr<CompiledScene>(new CompiledScene());
   CompiledScene& c = *out;
 
-  // Materials: one lobe each today, weight 1 (see bsdf/material.h).
-  for (const MaterialDesc& m : materials_) {
-    c.materials_.push_back(MaterialView{int(c.lobes_.size()), 1});
-    c.lobes_.push_back(lobe_params(m, cs));
-    c.lobe_weights_.push_back(1);
+  // Vertex attributes that material inputs read get scene-wide slots.
+  std::map<std::string, int> attribute_slot;
+  for (const CompiledMaterial& cm : compiled_materials_)
+    for (const ScalarInputDesc& w : cm.node_weights)
+      if (!w.attribute.empty() && !attribute_slot.count(w.attribute)) {
+        if (int(attribute_slot.size()) == kMaxVertexAttributes)
+          throw std::invalid_argument("scene: materials read more than " + std::to_string(kMaxVertexAttributes) +
+                                      " distinct vertex attributes");
+        int slot = int(attribute_slot.size());
+        attribute_slot[w.attribute] = slot;
+      }
+
+  // Materials: lobe parameters, node weights and layer programs; identical layouts once.
+  std::map<std::string, const LayerLayout*> layout_by_key;
+  for (size_t mi = 0; mi < compiled_materials_.size(); ++mi) {
+    const CompiledMaterial& cm = compiled_materials_[mi];
+    const MaterialDesc& md = materials_[mi];
+    const std::string key = cm.layout.key();
+    const LayerLayout* layout;
+    if (auto it = layout_by_key.find(key); it != layout_by_key.end()) {
+      layout = it->second;
+    } else {
+      c.layouts_.push_back(std::make_unique<LayerLayout>(cm.layout));
+      layout = c.layouts_.back().get();
+      layout_by_key[key] = layout;
+      c.bytes_ += layout->nodes.size() * sizeof(LayerNode) + 2 * layout->front_children.size() * sizeof(uint16_t);
+    }
+    MaterialView v;
+    v.front = {layout->nodes.data(), layout->front_children.data(), int(layout->nodes.size())};
+    v.back = {layout->nodes.data(), layout->back_children.data(), int(layout->nodes.size())};
+    v.first_lobe = int(c.lobes_.size());
+    v.n_lobes = int(cm.lobes.size());
+    v.first_weight = int(c.node_weights_.size());
+    v.ior_accumulation = md.ior_accumulation;
+    v.roughness_accumulation = md.roughness_accumulation;
+    for (const LobeDesc& l : cm.lobes) c.lobes_.push_back(lobe_params(l, cs));
+    for (const ScalarInputDesc& w : cm.node_weights)
+      c.node_weights_.push_back(ScalarInput{int16_t(w.attribute.empty() ? -1 : attribute_slot[w.attribute]), w.value});
+    c.materials_.push_back(v);
   }
+  auto check_attributes = [&](const Shape& s) {
+    if (s.material < 0) return;
+    for (const ScalarInputDesc& w : compiled_materials_[size_t(s.material)].node_weights) {
+      if (w.attribute.empty()) continue;
+      if (s.type != ShapeType::Mesh || !s.mesh.attributes.count(w.attribute))
+        throw std::invalid_argument("shape '" + s.name + "': its material '" + materials_[size_t(s.material)].name +
+                                    "' reads vertex attribute '" + w.attribute + "', which the shape does not define");
+    }
+  };
 
   // Geometry, group by group.
   c.shape_views_.resize(groups_.size());
   for (size_t g = 0; g < groups_.size(); ++g) {
     for (const Shape& s : groups_[g].shapes) {
+      check_attributes(s);
       ShapeView v;
       v.type = s.type;
       v.material = s.material;
@@ -196,9 +241,17 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
           for (size_t i = 0; i < nv; ++i) arrays->uv[i] = {m.uvs[2 * i], m.uvs[2 * i + 1]};
         }
         arrays->index = m.indices;
+        for (const auto& [name, slot] : attribute_slot) {
+          auto it = m.attributes.find(name);
+          if (it == m.attributes.end()) continue;
+          c.attribute_arrays_.push_back(it->second);
+          arrays->attr[slot] = c.attribute_arrays_.back().data();
+          c.bytes_ += it->second.size() * sizeof(float);
+        }
         v.mesh = {arrays->p.data(), arrays->n.empty() ? nullptr : arrays->n.data(),
                   arrays->uv.empty() ? nullptr : arrays->uv.data(), arrays->index.data(),
-                  uint32_t(m.indices.size() / 3), uint32_t(nv)};
+                  uint32_t(m.indices.size() / 3), uint32_t(nv), {}};
+        for (int a = 0; a < kMaxVertexAttributes; ++a) v.mesh.attr[a] = arrays->attr[a];
         c.bytes_ += arrays->p.size() * sizeof(Point3) + arrays->n.size() * sizeof(Normal3) +
                     arrays->uv.size() * sizeof(Vec2) + arrays->index.size() * sizeof(uint32_t);
         c.meshes_.push_back(std::move(arrays));
@@ -300,7 +353,7 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   v.emitter_first_light = c.emitter_first_light_.data();
   v.materials = c.materials_.data();
   v.lobes = c.lobes_.data();
-  v.lobe_weights = c.lobe_weights_.data();
+  v.node_weights = c.node_weights_.data();
   v.lights = c.lights_.data();
   v.n_lights = c.light_distribution_.integral() > 0 ? int(c.lights_.size()) : 0;
   v.light_distribution = c.light_distribution_.view();

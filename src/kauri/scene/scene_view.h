@@ -31,7 +31,7 @@ struct SceneView {
 
   const MaterialView* materials = nullptr;
   const LobeParams* lobes = nullptr;
-  const Float* lobe_weights = nullptr;
+  const ScalarInput* node_weights = nullptr;
 
   const Light* lights = nullptr;
   int n_lights = 0;
