@@ -131,8 +131,9 @@ KAURI_HOST_DEVICE inline void build_bsdf(const MaterialView& m, const LobeParams
   for (int i = 0; i < prog.n_nodes; ++i) in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(attrs), 0, 1);
   for (int i = 0; i < n; ++i) in.lobe_stopped[i] = SampledSpectrum(1) - lobes[i].albedo_t(wo);
   SampledSpectrum w[kMaxLayerNodes];
-  evaluate_layer_weights(prog, in, w);
-  for (int i = 0; i < n; ++i) bsdf->add(lobes[i], w[i]);
+  bool reflect_only[kMaxLayerNodes];
+  evaluate_layer_weights(prog, in, w, reflect_only);
+  for (int i = 0; i < n; ++i) bsdf->add(lobes[i], w[i], reflect_only[i]);
   bsdf->prepare(wo_world);
 }
 

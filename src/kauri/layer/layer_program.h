@@ -38,7 +38,12 @@ struct LayerInputs {
   SampledSpectrum lobe_stopped[kMaxLayerNodes];  // per lobe: a_b = a_r + a_a = 1 − a_t at ω_o (eq. 5)
 };
 
-/// Evaluates the weight program: `lobe_weight[k]` receives the final weight of lobe k.
+/// Evaluates the weight program: `lobe_weight[k]` receives the final weight of lobe k,
+/// and `lobe_reflect_only[k]` whether lobe k lies in the top input of a coat: the
+/// energy such a lobe transmits is the energy the layers below it receive (their
+/// weights already account for it), so its own transmission is not rendered again.
+/// Without this a transmissive coat over a base would return more energy than it
+/// receives.
 /// Weights are spectral: albedos vary with wavelength, so light reaching the bottom
 /// of a tinted stack is tinted (node weights themselves are scalars).
 ///
@@ -50,7 +55,7 @@ struct LayerInputs {
 /// sub-stack. Coat weights the bottom input by (1 − a_b1 w_b1) w_l as eq. 7
 /// states (the bottom's own weight does not enter).
 KAURI_HOST_DEVICE inline void evaluate_layer_weights(const LayerProgram& p, const LayerInputs& in,
-                                                     SampledSpectrum* lobe_weight) {
+                                                     SampledSpectrum* lobe_weight, bool* lobe_reflect_only) {
   SampledSpectrum mult[kMaxLayerNodes];     // multiplier each node receives from its parent
   SampledSpectrum stopped[kMaxLayerNodes];  // a_b of each node as an input (per unit presence)
   const int root = p.n_nodes - 1;
@@ -94,15 +99,21 @@ KAURI_HOST_DEVICE inline void evaluate_layer_weights(const LayerProgram& p, cons
   }
   // Top-down: accumulate multipliers from the root.
   SampledSpectrum acc[kMaxLayerNodes];
+  bool covered[kMaxLayerNodes];
   acc[root] = SampledSpectrum(p.nodes[root].op == LayerOp::Lobe ? in.node_weight[root] : Float(1));
+  covered[root] = false;
   for (int i = root; i >= 0; --i) {
     const LayerNode& n = p.nodes[i];
     if (n.op == LayerOp::Lobe) {
       lobe_weight[n.lobe] = acc[i];
+      lobe_reflect_only[n.lobe] = covered[i];
       continue;
     }
     const uint16_t* c = p.children + n.first_child;
-    for (int k = 0; k < n.n_children; ++k) acc[c[k]] = acc[i] * mult[c[k]];
+    for (int k = 0; k < n.n_children; ++k) {
+      acc[c[k]] = acc[i] * mult[c[k]];
+      covered[c[k]] = covered[i] || (n.op == LayerOp::Coat && k == 0);
+    }
   }
 }
 
