@@ -110,18 +110,31 @@ class Dielectric(Lobe):
 
 
 class Conductor(Lobe):
-    """Rough GGX conductor (``ggx_conductor@1``) with a spectral complex IOR.
+    """Rough microfacet conductor with a spectral complex IOR (``ggx_conductor@2``: GGX with
+    Kulla–Conty multiple-scattering compensation; ``compensate=False`` gives ``@1``).
 
-    Give ``metal`` (measured data: Au, Ag, Cu, Al, Cr) or RGB ``eta`` and ``k``.
-    ``roughness`` in [0, 1] (α = roughness²), ``anisotropy`` in [-1, 1].
+    Give ``metal`` (measured data: Au, Ag, Cu, Al, Cr), or RGB ``eta`` and ``k``, or the artist
+    parameters ``reflectivity`` and ``edge_tint`` (Gulbrandsen 2014). ``roughness`` in [0, 1]
+    (α = roughness²), ``anisotropy`` in [-1, 1], ``microfacet`` "ggx" or "beckmann".
     """
     kind = "conductor"
 
     def __init__(self, metal: str = "Au", roughness: float = 0.3, anisotropy: float = 0.0,
-                 eta=None, k=None, name: str = "", **extra):
+                 eta=None, k=None, reflectivity=None, edge_tint=None, microfacet: str = "ggx",
+                 compensate: bool = True, name: str = "", **extra):
         obj = f"material '{name or self.kind}'"
-        _check_keys(obj, extra, ["metal", "roughness", "anisotropy", "eta", "k", "name"])
-        if eta is not None or k is not None:
+        _check_keys(obj, extra, ["metal", "roughness", "anisotropy", "eta", "k", "reflectivity", "edge_tint",
+                                 "microfacet", "compensate", "name"])
+        if microfacet not in ("ggx", "beckmann"):
+            raise SceneError(f"{obj}: parameter 'microfacet': expected 'ggx' or 'beckmann', got {microfacet!r}")
+        refl = tint = None
+        if reflectivity is not None or edge_tint is not None:
+            refl = _vec3(obj, "reflectivity", 0.9 if reflectivity is None else reflectivity)
+            tint = _vec3(obj, "edge_tint", 0.9 if edge_tint is None else edge_tint)
+            if min(refl) < 0 or max(refl) > 0.999 or min(tint) < 0 or max(tint) > 1:
+                raise SceneError(f"{obj}: parameters 'reflectivity' (< 1) and 'edge_tint' must lie in [0, 1]")
+            metal, eta, k = "", (1.0, 1.0, 1.0), (0.0, 0.0, 0.0)
+        elif eta is not None or k is not None:
             if eta is None or k is None:
                 raise SceneError(f"{obj}: parameters 'eta' and 'k' must be given together")
             metal = ""
@@ -130,12 +143,66 @@ class Conductor(Lobe):
             if not isinstance(metal, str):
                 raise SceneError(f"{obj}: parameter 'metal': expected a name, got {type(metal).__name__}")
             eta, k = (1.0, 1.0, 1.0), (0.0, 0.0, 0.0)
-        super().__init__(name, metal=metal, eta=eta, k=k,
+        super().__init__(name, metal=metal, eta=eta, k=k, reflectivity=refl, edge_tint=tint,
+                         microfacet=microfacet, compensate=bool(compensate),
                          roughness=_number(obj, "roughness", roughness, 0, 1),
                          anisotropy=_number(obj, "anisotropy", anisotropy, -1, 1))
 
 
-LOBE_TYPES = {"lambert": Lambert, "dielectric": Dielectric, "conductor": Conductor}
+class RoughDielectric(Lobe):
+    """Rough GGX dielectric (``ggx_dielectric@1``): frosted glass, rough water; reflection and
+    refraction. ``ior`` at 587.6 nm, ``abbe`` for dispersion, ``roughness``, ``anisotropy``."""
+    kind = "rough_dielectric"
+
+    def __init__(self, ior: float = 1.5, roughness: float = 0.2, anisotropy: float = 0.0, abbe: float = 0.0,
+                 name: str = "", **extra):
+        obj = f"material '{name or self.kind}'"
+        _check_keys(obj, extra, ["ior", "roughness", "anisotropy", "abbe", "name"])
+        super().__init__(name, ior=_number(obj, "ior", ior, 1.0 / 4, 4), abbe=_number(obj, "abbe", abbe, 0, 1000),
+                         roughness=_number(obj, "roughness", roughness, 0, 1),
+                         anisotropy=_number(obj, "anisotropy", anisotropy, -1, 1))
+
+
+class ThinDielectric(Lobe):
+    """A thin glass sheet (``thin_dielectric@1``): mirror reflection with the sheet's internal
+    bounces, straight-through transmission. For windows and bubbles modelled as one surface."""
+    kind = "thin_dielectric"
+
+    def __init__(self, ior: float = 1.5, name: str = "", **extra):
+        obj = f"material '{name or self.kind}'"
+        _check_keys(obj, extra, ["ior", "name"])
+        super().__init__(name, ior=_number(obj, "ior", ior, 1.0 / 4, 4), abbe=0.0)
+
+
+class DiffuseTransmission(Lobe):
+    """Tinted Lambertian transmission (``diffuse_transmission@1``): leaves, paper, lampshades."""
+    kind = "diffuse_transmission"
+
+    def __init__(self, transmittance=(0.5, 0.5, 0.5), name: str = "", **extra):
+        obj = f"material '{name or self.kind}'"
+        _check_keys(obj, extra, ["transmittance", "name"])
+        t = _vec3(obj, "transmittance", transmittance)
+        if min(t) < 0 or max(t) > 1:
+            raise SceneError(f"{obj}: parameter 'transmittance': components must lie in [0, 1], got {t}")
+        super().__init__(name, transmittance=t)
+
+
+class Sheen(Lobe):
+    """Fabric sheen (``sheen@1``, Estevez–Kulla "Charlie" distribution): velvet, cloth, dust."""
+    kind = "sheen"
+
+    def __init__(self, color=(1.0, 1.0, 1.0), roughness: float = 0.4, name: str = "", **extra):
+        obj = f"material '{name or self.kind}'"
+        _check_keys(obj, extra, ["color", "roughness", "name"])
+        c = _vec3(obj, "color", color)
+        if min(c) < 0 or max(c) > 1:
+            raise SceneError(f"{obj}: parameter 'color': components must lie in [0, 1], got {c}")
+        super().__init__(name, color=c, roughness=_number(obj, "roughness", roughness, 0, 1))
+
+
+LOBE_TYPES = {"lambert": Lambert, "dielectric": Dielectric, "conductor": Conductor,
+              "rough_dielectric": RoughDielectric, "thin_dielectric": ThinDielectric,
+              "diffuse_transmission": DiffuseTransmission, "sheen": Sheen}
 OPERATORS = ("mix", "coat", "blend", "add")
 
 
@@ -180,10 +247,11 @@ class Material:
         """Adds lobe ``lobe`` as node ``name`` with weight w_b (a number in [0, 1] or an Attribute)."""
         if not isinstance(lobe, Lobe):
             raise SceneError(f"material '{self.name}', node '{name}': expected a lobe "
-                             f"(Lambert, Dielectric, Conductor), got {type(lobe).__name__}")
+                             f"({', '.join(c.__name__ for c in LOBE_TYPES.values())}), got {type(lobe).__name__}")
         obj = f"material '{self.name}', node '{name}'"
+        w = _weight(obj, "weight", weight)
         self._new_name(name)
-        self.lobes.append({"name": name, "type": lobe.kind, **lobe.params, **_weight(obj, "weight", weight)})
+        self.lobes.append({"name": name, "type": lobe.kind, **lobe.params, **w})
         return self
 
     def combine(self, name: str, op: str, *inputs: str, weight=1.0) -> "Material":
@@ -194,8 +262,9 @@ class Material:
         for i in inputs:
             if not isinstance(i, str):
                 raise SceneError(f"{obj}: inputs are node names, got {type(i).__name__}")
+        w = _weight(obj, "weight", weight)
         self._new_name(name)
-        self.layers.append({"name": name, "op": op, "inputs": list(inputs), **_weight(obj, "weight", weight)})
+        self.layers.append({"name": name, "op": op, "inputs": list(inputs), **w})
         return self
 
     @classmethod

@@ -39,8 +39,8 @@ struct ProgramBuilder {
 };
 
 void evaluate_layer_weights_(const LayerProgram& p, const LayerInputs& in, SampledSpectrum* w) {
-  bool reflect_only[kMaxLayerNodes];
-  evaluate_layer_weights(p, in, w, reflect_only);
+  Float transmission[kMaxLayerNodes];
+  evaluate_layer_weights(p, in, w, transmission);
 }
 
 LayerInputs inputs(std::initializer_list<Float> node_weights, std::initializer_list<Float> stopped) {
@@ -78,11 +78,12 @@ TEST(LayerOps, CoatUsesTheTopsStoppedEnergy) {  // eqs. 5–7
   // a_b1 = a_r1 + a_a1 = 0.3, w_b1 = 0.7, w_l = 0.9.
   evaluate_layer_weights_(b.program(), inputs({0.7f, 0.4f, 0.9f}, {0.3f, 1}), w);
   EXPECT_FLOAT_EQ(w[0][0], 0.7f * 0.9f);
-  EXPECT_FLOAT_EQ(w[1][0], (1 - 0.3f * 0.7f) * 0.9f);  // the bottom's own w_b does not enter (eq. 7)
-  bool reflect_only[2];
-  evaluate_layer_weights(b.program(), inputs({0.7f, 0.4f, 0.9f}, {0.3f, 1}), w, reflect_only);
-  EXPECT_TRUE(reflect_only[0]);   // the top's transmission is what the bottom receives
-  EXPECT_FALSE(reflect_only[1]);
+  // Eq. 7 with the bottom's presence w_b2 = 0.4 (see layer_program.h for why it enters).
+  EXPECT_FLOAT_EQ(w[1][0], (1 - 0.3f * 0.7f) * 0.4f * 0.9f);
+  Float transmission[2];
+  evaluate_layer_weights(b.program(), inputs({0.7f, 0.4f, 0.9f}, {0.3f, 1}), w, transmission);
+  EXPECT_FLOAT_EQ(transmission[0], 1 - 0.4f);  // the top transmits only where the bottom is absent
+  EXPECT_FLOAT_EQ(transmission[1], 1.0f);
   // An opaque (a_t = 0), fully weighted top hides the base exactly.
   evaluate_layer_weights_(b.program(), inputs({1, 1, 1}, {1, 1}), w);
   EXPECT_EQ(w[1][0], 0.0f);
@@ -123,7 +124,7 @@ TEST(LayerOps, NestedLayersComposeMultipliers) {
   EXPECT_FLOAT_EQ(w[0][0], 0.25f * m_mix);
   EXPECT_FLOAT_EQ(w[1][0], 0.75f * m_mix);
   const float stopped_mix = 0.25f * 0.2f + 0.75f * 0.6f;
-  EXPECT_FLOAT_EQ(w[2][0], (1 - stopped_mix * 0.5f) * 0.8f);
+  EXPECT_FLOAT_EQ(w[2][0], (1 - stopped_mix * 0.5f) * 1.0f * 0.8f);
 }
 
 TEST(LayerOps, SpectralAlbedoTintsWhatLiesBelow) {

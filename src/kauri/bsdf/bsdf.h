@@ -16,30 +16,30 @@ struct BSDF {
   int n_lobes = 0;
   Lobe lobes[kMaxLobes];
   SampledSpectrum weight[kMaxLobes];  // spectral: a tinted stack tints what lies below it
-  bool reflect_only[kMaxLobes];       // transmission handed to the layers below (coat tops)
+  Float transmission[kMaxLobes];      // fraction of a lobe's transmission leaving the stack (coat tops: less)
   Float select_prob[kMaxLobes];       // set by prepare()
 
-  KAURI_HOST_DEVICE void add(const Lobe& l, const SampledSpectrum& w, bool reflection_only = false) {
+  KAURI_HOST_DEVICE void add(const Lobe& l, const SampledSpectrum& w, Float transmission_scale = 1) {
     if (n_lobes < kMaxLobes && w.max_value() > 0) {
       lobes[n_lobes] = l;
       weight[n_lobes] = w;
-      reflect_only[n_lobes] = reflection_only;
+      transmission[n_lobes] = transmission_scale;
       ++n_lobes;
     }
   }
   KAURI_HOST_DEVICE void add(const Lobe& l, Float w) { add(l, SampledSpectrum(w)); }
 
-  /// Whether lobe i contributes for the pair (wo, wi) (local frame).
-  KAURI_HOST_DEVICE bool contributes(int i, Vec3 wo, Vec3 wi) const {
-    return !reflect_only[i] || same_hemisphere(wo, wi);
+  /// How much of lobe i counts for the pair (wo, wi) (local frame): 1 for reflection,
+  /// its transmission scale for transmission.
+  KAURI_HOST_DEVICE Float lobe_scale(int i, Vec3 wo, Vec3 wi) const {
+    return same_hemisphere(wo, wi) ? Float(1) : transmission[i];
   }
   /// Lobe selection probabilities ∝ weight × average reflection+transmission albedo.
   KAURI_HOST_DEVICE void prepare(Vec3 wo_world) {
     Vec3 wo = frame.to_local(wo_world);
     Float total = 0;
     for (int i = 0; i < n_lobes; ++i) {
-      SampledSpectrum alb = lobes[i].albedo_r(wo);
-      if (!reflect_only[i]) alb += lobes[i].albedo_t(wo);
+      SampledSpectrum alb = lobes[i].albedo_r(wo) + lobes[i].albedo_t(wo) * transmission[i];
       Float a = (alb * weight[i]).average();
       select_prob[i] = fmax_(a, 1e-3f * weight[i].average());
       total += select_prob[i];
@@ -57,15 +57,16 @@ struct BSDF {
     Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
     if (wo.z == 0) return SampledSpectrum(0);
     SampledSpectrum f(0);
-    for (int i = 0; i < n_lobes; ++i)
-      if (contributes(i, wo, wi)) f += lobes[i].eval(wo, wi, mode) * weight[i];
+    for (int i = 0; i < n_lobes; ++i) {
+      Float t = lobe_scale(i, wo, wi);
+      if (t > 0) f += lobes[i].eval(wo, wi, mode) * weight[i] * t;
+    }
     return f * shading_normal_correction(wo_world, wi_world, wi);
   }
   KAURI_HOST_DEVICE Float pdf(Vec3 wo_world, Vec3 wi_world) const {
     Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
     Float p = 0;
-    for (int i = 0; i < n_lobes; ++i)
-      if (contributes(i, wo, wi)) p += select_prob[i] * lobes[i].pdf(wo, wi);
+    for (int i = 0; i < n_lobes; ++i) p += select_prob[i] * lobes[i].pdf(wo, wi);
     return p;
   }
 
@@ -88,18 +89,20 @@ struct BSDF {
     }
     if (select_prob[chosen] <= 0) return none;
     BSDFSample s = lobes[chosen].sample(wo, uc, u, lambda, mode);
-    if (!s.valid() || s.wi.z == 0 || !contributes(chosen, wo, s.wi)) return none;
+    if (!s.valid() || s.wi.z == 0) return none;
+    const Float t_chosen = lobe_scale(chosen, wo, s.wi);
+    if (t_chosen <= 0) return none;  // energy handed to the layers below
     Vec3 wi_world = frame.to_world(s.wi);
     if (s.is_specular()) {
       // A delta lobe cannot be combined with the others: the estimator is its own.
-      s.f *= weight[chosen];
+      s.f *= weight[chosen] * t_chosen;
       s.pdf *= select_prob[chosen];
     } else {
       s.f = SampledSpectrum(0);
       s.pdf = 0;
       for (int i = 0; i < n_lobes; ++i) {
-        if (lobes[i].scattering() == Scattering::Specular || !contributes(i, wo, s.wi)) continue;
-        s.f += lobes[i].eval(wo, s.wi, mode) * weight[i];
+        if (lobes[i].scattering() == Scattering::Specular) continue;
+        s.f += lobes[i].eval(wo, s.wi, mode) * weight[i] * lobe_scale(i, wo, s.wi);
         s.pdf += select_prob[i] * lobes[i].pdf(wo, s.wi);
       }
     }

@@ -5,11 +5,15 @@
 
 #include "kauri/bsdf/conductor.h"
 #include "kauri/bsdf/dielectric.h"
+#include "kauri/bsdf/diffuse_transmission.h"
 #include "kauri/bsdf/lambert.h"
+#include "kauri/bsdf/rough_dielectric.h"
+#include "kauri/bsdf/sheen.h"
+#include "kauri/bsdf/thin_dielectric.h"
 
 namespace kauri {
 
-enum class LobeType : uint8_t { Lambert, SmoothDielectric, GGXConductor };
+enum class LobeType : uint8_t { Lambert, SmoothDielectric, GGXConductor, DiffuseTransmission, RoughDielectric, ThinDielectric, Sheen };
 
 struct Lobe {
   LobeType type = LobeType::Lambert;
@@ -17,12 +21,21 @@ struct Lobe {
     LambertLobe lambert;
     SmoothDielectricLobe dielectric;
     GGXConductorLobe conductor;
+    DiffuseTransmissionLobe diffuse_transmission;
+    RoughDielectricLobe rough_dielectric;
+    ThinDielectricLobe thin_dielectric;
+    SheenLobe sheen;
   };
 
   KAURI_HOST_DEVICE Lobe() : lambert() {}
   KAURI_HOST_DEVICE Lobe(const LambertLobe& l) : type(LobeType::Lambert), lambert(l) {}
   KAURI_HOST_DEVICE Lobe(const SmoothDielectricLobe& l) : type(LobeType::SmoothDielectric), dielectric(l) {}
   KAURI_HOST_DEVICE Lobe(const GGXConductorLobe& l) : type(LobeType::GGXConductor), conductor(l) {}
+  KAURI_HOST_DEVICE Lobe(const DiffuseTransmissionLobe& l)
+      : type(LobeType::DiffuseTransmission), diffuse_transmission(l) {}
+  KAURI_HOST_DEVICE Lobe(const RoughDielectricLobe& l) : type(LobeType::RoughDielectric), rough_dielectric(l) {}
+  KAURI_HOST_DEVICE Lobe(const ThinDielectricLobe& l) : type(LobeType::ThinDielectric), thin_dielectric(l) {}
+  KAURI_HOST_DEVICE Lobe(const SheenLobe& l) : type(LobeType::Sheen), sheen(l) {}
 
   /// Calls f(concrete_lobe) for the active member.
   template <class F>
@@ -30,6 +43,10 @@ struct Lobe {
     switch (type) {
       case LobeType::SmoothDielectric: return f(dielectric);
       case LobeType::GGXConductor: return f(conductor);
+      case LobeType::DiffuseTransmission: return f(diffuse_transmission);
+      case LobeType::RoughDielectric: return f(rough_dielectric);
+      case LobeType::ThinDielectric: return f(thin_dielectric);
+      case LobeType::Sheen: return f(sheen);
       case LobeType::Lambert:
       default: return f(lambert);
     }
@@ -59,12 +76,19 @@ struct Lobe {
   KAURI_HOST_DEVICE Scattering scattering() const {
     switch (type) {
       case LobeType::GGXConductor: return conductor.scattering();
+      case LobeType::RoughDielectric: return rough_dielectric.scattering();
+      case LobeType::DiffuseTransmission: return DiffuseTransmissionLobe::kScattering;
+      case LobeType::ThinDielectric: return ThinDielectricLobe::kScattering;
+      case LobeType::Sheen: return SheenLobe::kScattering;
       case LobeType::SmoothDielectric: return SmoothDielectricLobe::kScattering;
       case LobeType::Lambert:
       default: return LambertLobe::kScattering;
     }
   }
-  KAURI_HOST_DEVICE const char* name() const { return dispatch([](const auto& l) { return l.kName; }); }
+  KAURI_HOST_DEVICE const char* name() const {
+    if (type == LobeType::GGXConductor) return conductor.name();  // @1 or @2 (compensated)
+    return dispatch([](const auto& l) { return l.kName; });
+  }
 };
 
 }  // namespace kauri

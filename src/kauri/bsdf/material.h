@@ -23,10 +23,13 @@ struct ScalarInput {
 
 struct LobeParams {
   LobeType type = LobeType::Lambert;
-  Spectrum a;       // Lambert: albedo; conductor: η
-  Spectrum b;       // conductor: κ
-  Float alpha_x = 0, alpha_y = 0;  // microfacet roughness
-  CauchyIOR ior;    // dielectric
+  Spectrum a;       // Lambert albedo, transmission τ, sheen colour; conductor: η (or reflectivity)
+  Spectrum b;       // conductor: κ (or edge tint)
+  Float alpha_x = 0, alpha_y = 0;  // microfacet roughness (sheen: roughness in alpha_x)
+  CauchyIOR ior;    // dielectrics
+  MicrofacetType microfacet = MicrofacetType::GGX;
+  bool compensate = true;   // conductor multiple-scattering compensation
+  bool artist = false;      // conductor: a, b are reflectivity and edge tint
 
   KAURI_HOST_DEVICE Lobe instantiate(const SampledWavelengths& lambda) const {
     switch (type) {
@@ -38,11 +41,28 @@ struct LobeParams {
       }
       case LobeType::GGXConductor: {
         GGXConductorLobe l;
-        l.mf = {alpha_x, alpha_y};
-        l.eta = a.sample(lambda);
-        l.k = b.sample(lambda);
+        l.mf = {alpha_x, alpha_y, microfacet};
+        l.compensate = compensate;
+        if (artist) {
+          artist_conductor_ior(a.sample(lambda), b.sample(lambda), &l.eta, &l.k);
+        } else {
+          l.eta = a.sample(lambda);
+          l.k = b.sample(lambda);
+        }
         return Lobe(l);
       }
+      case LobeType::RoughDielectric: {
+        SampledSpectrum eta;
+        for (int i = 0; i < kSpectrumSamples; ++i) eta[i] = ior(lambda.lambda[i]);
+        return Lobe(RoughDielectricLobe::make(eta, alpha_x, alpha_y));
+      }
+      case LobeType::ThinDielectric: {
+        SampledSpectrum eta;
+        for (int i = 0; i < kSpectrumSamples; ++i) eta[i] = ior(lambda.lambda[i]);
+        return Lobe(ThinDielectricLobe::make(eta));
+      }
+      case LobeType::DiffuseTransmission: return Lobe(DiffuseTransmissionLobe::make(a.sample(lambda)));
+      case LobeType::Sheen: return Lobe(SheenLobe::make(a.sample(lambda), alpha_x));
       case LobeType::Lambert:
       default: {
         LambertLobe l;
@@ -69,6 +89,7 @@ KAURI_HOST_DEVICE inline LobeInterface lobe_interface(const Lobe& l) {
   LobeInterface r;
   switch (l.type) {
     case LobeType::SmoothDielectric:
+    case LobeType::RoughDielectric:
     case LobeType::GGXConductor:
       for (int i = 0; i < kSpectrumSamples; ++i) r.ior[i] = l.ior(i);
       r.roughness = l.roughness();
@@ -85,6 +106,15 @@ KAURI_HOST_DEVICE inline void apply_accumulation(Lobe& l, const LayerAbove& abov
   switch (l.type) {
     case LobeType::SmoothDielectric:
       if (has_above_ior) l.dielectric.eta = l.dielectric.eta.safe_div(above.ior);
+      break;
+    case LobeType::RoughDielectric:
+      if (has_above_ior) l.rough_dielectric = RoughDielectricLobe::make(
+          l.rough_dielectric.eta.safe_div(above.ior), l.rough_dielectric.mf.alpha_x, l.rough_dielectric.mf.alpha_y);
+      if (rough_acc && above.roughness > 0) {
+        Float a_min = sqr(above.roughness);
+        l.rough_dielectric.mf.alpha_x = fmax_(l.rough_dielectric.mf.alpha_x, a_min);
+        l.rough_dielectric.mf.alpha_y = fmax_(l.rough_dielectric.mf.alpha_y, a_min);
+      }
       break;
     case LobeType::GGXConductor:
       if (has_above_ior) {
@@ -131,9 +161,9 @@ KAURI_HOST_DEVICE inline void build_bsdf(const MaterialView& m, const LobeParams
   for (int i = 0; i < prog.n_nodes; ++i) in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(attrs), 0, 1);
   for (int i = 0; i < n; ++i) in.lobe_stopped[i] = SampledSpectrum(1) - lobes[i].albedo_t(wo);
   SampledSpectrum w[kMaxLayerNodes];
-  bool reflect_only[kMaxLayerNodes];
-  evaluate_layer_weights(prog, in, w, reflect_only);
-  for (int i = 0; i < n; ++i) bsdf->add(lobes[i], w[i], reflect_only[i]);
+  Float transmission[kMaxLayerNodes];
+  evaluate_layer_weights(prog, in, w, transmission);
+  for (int i = 0; i < n; ++i) bsdf->add(lobes[i], w[i], transmission[i]);
   bsdf->prepare(wo_world);
 }
 

@@ -91,9 +91,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
       Vec3 wl = frame.to_local(wo);
       SampledSpectrum a(0);
       for (int i = 0; i < bsdf.n_lobes; ++i) {
-        SampledSpectrum li = bsdf.lobes[i].albedo_r(wl);
-        if (!bsdf.reflect_only[i]) li += bsdf.lobes[i].albedo_t(wl);
-        a += li * bsdf.weight[i];
+        a += (bsdf.lobes[i].albedo_r(wl) + bsdf.lobes[i].albedo_t(wl) * bsdf.transmission[i]) * bsdf.weight[i];
       }
       out->albedo = a;
       out->albedo_set = true;

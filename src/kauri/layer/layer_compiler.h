@@ -21,11 +21,15 @@ struct ScalarInputDesc {
 struct LobeDesc {
   std::string name;
   LobeType type = LobeType::Lambert;
-  Vec3 albedo{0.8f, 0.8f, 0.8f};   // Lambert
+  Vec3 albedo{0.8f, 0.8f, 0.8f};   // Lambert albedo; diffuse-transmission τ; sheen colour
   Float ior = 1.5f, abbe = 0;      // dielectric
   std::string metal;               // conductor: measured IOR by name, or
   Vec3 eta_rgb{0, 0, 0}, k_rgb{0, 0, 0};  // conductor: RGB η, κ (used when metal is empty)
-  Float roughness = 0.3f, anisotropy = 0;
+  Float roughness = 0.3f, anisotropy = 0;  // microfacet lobes; sheen roughness
+  MicrofacetType microfacet = MicrofacetType::GGX;
+  bool compensate = true;          // conductor: Kulla–Conty multiple scattering (ggx_conductor@2)
+  bool artist = false;             // conductor: reflectivity + edge tint (Gulbrandsen 2014) instead of η, κ
+  Vec3 reflectivity{0.9f, 0.9f, 0.9f}, edge_tint{0.9f, 0.9f, 0.9f};
   ScalarInputDesc weight;          // w_b
 };
 

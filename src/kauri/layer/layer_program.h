@@ -39,11 +39,11 @@ struct LayerInputs {
 };
 
 /// Evaluates the weight program: `lobe_weight[k]` receives the final weight of lobe k,
-/// and `lobe_reflect_only[k]` whether lobe k lies in the top input of a coat: the
-/// energy such a lobe transmits is the energy the layers below it receive (their
-/// weights already account for it), so its own transmission is not rendered again.
-/// Without this a transmissive coat over a base would return more energy than it
-/// receives.
+/// and `lobe_transmission[k]` the fraction of lobe k's own transmission that leaves
+/// the stack. A lobe in the top input of a coat hands the energy it transmits to the
+/// bottom input — whose weight already accounts for it — so only the part the bottom
+/// does not cover (1 − w_b2) is rendered as the top's transmission. Without this a
+/// transmissive coat over a base would return more energy than it receives.
 /// Weights are spectral: albedos vary with wavelength, so light reaching the bottom
 /// of a tinted stack is tinted (node weights themselves are scalars).
 ///
@@ -52,10 +52,12 @@ struct LayerInputs {
 /// enter the parent's equation as that input's w_b; the root's w_l enters its own
 /// equation as w_l. A nested layer used as an input stops the energy
 /// a_b = Σ (its lobes' weights relative to it) × (1 − a_t): the albedo of the
-/// sub-stack. Coat weights the bottom input by (1 − a_b1 w_b1) w_l as eq. 7
-/// states (the bottom's own weight does not enter).
+/// sub-stack. Coat weights the bottom input by (1 − a_b1 w_b1) w_b2 w_l: eq. 7 as
+/// printed omits the bottom's own presence w_b2; we include it, as eqs. 9 and 11 do
+/// for their second input, so a masked base is absent where its mask is 0 (light
+/// then passes through the top instead of reaching a base that is not there).
 KAURI_HOST_DEVICE inline void evaluate_layer_weights(const LayerProgram& p, const LayerInputs& in,
-                                                     SampledSpectrum* lobe_weight, bool* lobe_reflect_only) {
+                                                     SampledSpectrum* lobe_weight, Float* lobe_transmission) {
   SampledSpectrum mult[kMaxLayerNodes];     // multiplier each node receives from its parent
   SampledSpectrum stopped[kMaxLayerNodes];  // a_b of each node as an input (per unit presence)
   const int root = p.n_nodes - 1;
@@ -78,7 +80,7 @@ KAURI_HOST_DEVICE inline void evaluate_layer_weights(const LayerProgram& p, cons
       }
       case LayerOp::Coat:  // eqs. 5–7
         mult[c[0]] = SampledSpectrum(w_b(0) * wl);
-        mult[c[1]] = (SampledSpectrum(1) - stopped[c[0]] * w_b(0)) * wl;
+        mult[c[1]] = (SampledSpectrum(1) - stopped[c[0]] * w_b(0)) * (w_b(1) * wl);
         break;
       case LayerOp::Blend:  // eqs. 8–9
         mult[c[0]] = SampledSpectrum(w_b(0) * wl);
@@ -99,20 +101,20 @@ KAURI_HOST_DEVICE inline void evaluate_layer_weights(const LayerProgram& p, cons
   }
   // Top-down: accumulate multipliers from the root.
   SampledSpectrum acc[kMaxLayerNodes];
-  bool covered[kMaxLayerNodes];
+  Float trans[kMaxLayerNodes];
   acc[root] = SampledSpectrum(p.nodes[root].op == LayerOp::Lobe ? in.node_weight[root] : Float(1));
-  covered[root] = false;
+  trans[root] = 1;
   for (int i = root; i >= 0; --i) {
     const LayerNode& n = p.nodes[i];
     if (n.op == LayerOp::Lobe) {
       lobe_weight[n.lobe] = acc[i];
-      lobe_reflect_only[n.lobe] = covered[i];
+      lobe_transmission[n.lobe] = trans[i];
       continue;
     }
     const uint16_t* c = p.children + n.first_child;
     for (int k = 0; k < n.n_children; ++k) {
       acc[c[k]] = acc[i] * mult[c[k]];
-      covered[c[k]] = covered[i] || (n.op == LayerOp::Coat && k == 0);
+      trans[c[k]] = n.op == LayerOp::Coat && k == 0 ? trans[i] * (1 - in.node_weight[c[1]]) : trans[i];
     }
   }
 }

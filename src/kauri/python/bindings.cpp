@@ -69,6 +69,30 @@ LobeDesc lobe_from_dict(const nb::dict& d) {
     l.k_rgb = v3(nb::cast<Vec3T>(d["k"]));
     l.roughness = nb::cast<float>(d["roughness"]);
     l.anisotropy = nb::cast<float>(d["anisotropy"]);
+    std::string mf = nb::cast<std::string>(d["microfacet"]);
+    if (mf == "beckmann") l.microfacet = MicrofacetType::Beckmann;
+    else if (mf != "ggx") throw std::invalid_argument("lobe '" + l.name + "': unknown microfacet model '" + mf + "'");
+    l.compensate = nb::cast<bool>(d["compensate"]);
+    if (!d["reflectivity"].is_none()) {
+      l.artist = true;
+      l.reflectivity = v3(nb::cast<Vec3T>(d["reflectivity"]));
+      l.edge_tint = v3(nb::cast<Vec3T>(d["edge_tint"]));
+    }
+  } else if (type == "rough_dielectric" || type == "thin_dielectric") {
+    l.type = type == "thin_dielectric" ? LobeType::ThinDielectric : LobeType::RoughDielectric;
+    l.ior = nb::cast<float>(d["ior"]);
+    l.abbe = nb::cast<float>(d["abbe"]);
+    if (type == "rough_dielectric") {
+      l.roughness = nb::cast<float>(d["roughness"]);
+      l.anisotropy = nb::cast<float>(d["anisotropy"]);
+    }
+  } else if (type == "diffuse_transmission") {
+    l.type = LobeType::DiffuseTransmission;
+    l.albedo = v3(nb::cast<Vec3T>(d["transmittance"]));
+  } else if (type == "sheen") {
+    l.type = LobeType::Sheen;
+    l.albedo = v3(nb::cast<Vec3T>(d["color"]));
+    l.roughness = nb::cast<float>(d["roughness"]);
   } else {
     throw std::invalid_argument("lobe '" + l.name + "': unknown lobe type '" + type + "'");
   }
@@ -223,6 +247,8 @@ NB_MODULE(_core, m) {
         for (const NaNReport& r : s.nan_pixels) nan.append(nb::make_tuple(r.x, r.y, r.sample));
         d["nan_pixels"] = nan;
         d["scene_bytes"] = s.scene_bytes;
+        d["materials"] = s.materials;
+        d["layer_layouts"] = s.layer_layouts;
         d["peak_rss_bytes"] = s.peak_rss_bytes;
         d["summary"] = s.summary();
         return d;

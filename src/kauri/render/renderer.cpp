@@ -200,7 +200,8 @@ std::string RenderStats::summary() const {
   std::ostringstream os;
   os << "render time " << format_duration(seconds) << " (" << seconds << " s), " << spp << " spp, "
      << format_rate(samples_per_second()) << " samples/s, " << rays << " rays, " << format_rate(rays_per_second())
-     << " rays/s, scene " << (scene_bytes >> 20) << " MiB, peak memory " << (peak_rss_bytes >> 20) << " MiB";
+     << " rays/s, scene " << (scene_bytes >> 20) << " MiB, peak memory " << (peak_rss_bytes >> 20) << " MiB, "
+     << materials << " materials sharing " << layer_layouts << " layer layouts";
   if (nan_samples) {
     os << "\nwarning: " << nan_samples << " non-finite samples discarded, first at pixel";
     for (size_t i = 0; i < nan_pixels.size() && i < 4; ++i)
@@ -258,6 +259,8 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& cfg) {
             [](const NaNReport& a, const NaNReport& b) { return std::tie(a.sample, a.y, a.x) < std::tie(b.sample, b.y, b.x); });
   st.nan_pixels = nan_pixels;
   st.scene_bytes = scene.bytes();
+  st.materials = scene.material_count();
+  st.layer_layouts = scene.layout_count();
   st.peak_rss_bytes = peak_rss_bytes();
   return result;
 }

@@ -39,6 +39,7 @@ struct RenderStats {
   uint64_t nan_samples = 0;   // non-finite samples caught (not splatted)
   std::vector<NaNReport> nan_pixels;  // the first few, for debugging
   size_t scene_bytes = 0;
+  int materials = 0, layer_layouts = 0;  // distinct layer-program layouts (shared ones count once)
   size_t peak_rss_bytes = 0;
   double samples_per_second() const { return seconds > 0 ? double(samples) / seconds : 0; }
   double rays_per_second() const { return seconds > 0 ? double(rays) / seconds : 0; }

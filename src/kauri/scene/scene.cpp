@@ -60,15 +60,34 @@ void check_lobe(const std::string& obj, const LobeDesc& m) {
       check_finite(obj, "albedo", m.albedo);
       for (int i = 0; i < 3; ++i) check_range(obj, "albedo", m.albedo[i], 0, 1);
       break;
+    case LobeType::DiffuseTransmission:
+    case LobeType::Sheen:
+      check_finite(obj, m.type == LobeType::Sheen ? "color" : "transmittance", m.albedo);
+      for (int i = 0; i < 3; ++i) check_range(obj, m.type == LobeType::Sheen ? "color" : "transmittance", m.albedo[i], 0, 1);
+      if (m.type == LobeType::Sheen) check_range(obj, "roughness", m.roughness, 0, 1);
+      break;
     case LobeType::SmoothDielectric:
+    case LobeType::RoughDielectric:
+    case LobeType::ThinDielectric:
       check_finite(obj, "ior", m.ior);
       check_range(obj, "ior", m.ior, 1.0f / 4, 4);
       check_finite(obj, "abbe", m.abbe);
       if (m.abbe < 0) fail(obj, "abbe", "must be >= 0 (0 = no dispersion)");
+      if (m.type == LobeType::RoughDielectric) {
+        check_range(obj, "roughness", m.roughness, 0, 1);
+        check_range(obj, "anisotropy", m.anisotropy, -1, 1);
+      }
       break;
     case LobeType::GGXConductor:
       check_range(obj, "roughness", m.roughness, 0, 1);
       check_range(obj, "anisotropy", m.anisotropy, -1, 1);
+      if (m.artist) {
+        for (int i = 0; i < 3; ++i) {
+          check_range(obj, "reflectivity", m.reflectivity[i], 0, 0.999f);
+          check_range(obj, "edge_tint", m.edge_tint[i], 0, 1);
+        }
+        break;
+      }
       if (!m.metal.empty() && !tables::find_metal(m.metal))
         fail(obj, "metal", "unknown metal '" + m.metal + "'; known: " + tables::known_metal_names());
       if (m.metal.empty()) {

@@ -26,11 +26,30 @@ Spectrum emission_of(const EmissionDesc& e, const RGBColorSpace& cs) {
 LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs) {
   LobeParams p;
   p.type = m.type;
+  // Anisotropy stretches α along the tangent and shrinks it along the bitangent
+  // (the usual artist mapping; α = roughness²).
+  Float alpha = GGXDistribution::roughness_to_alpha(m.roughness);
+  Float aspect = std::sqrt(1 - 0.9f * std::fabs(m.anisotropy));
+  p.alpha_x = m.anisotropy >= 0 ? alpha / aspect : alpha * aspect;
+  p.alpha_y = m.anisotropy >= 0 ? alpha * aspect : alpha / aspect;
   switch (m.type) {
-    case LobeType::Lambert: p.a = rgb_albedo(cs, m.albedo); break;
-    case LobeType::SmoothDielectric: p.ior = CauchyIOR::from_abbe(m.ior, m.abbe); break;
+    case LobeType::Lambert:
+    case LobeType::DiffuseTransmission: p.a = rgb_albedo(cs, m.albedo); break;
+    case LobeType::Sheen:
+      p.a = rgb_albedo(cs, m.albedo);
+      p.alpha_x = p.alpha_y = m.roughness;  // the sheen lobe takes its roughness directly
+      break;
+    case LobeType::SmoothDielectric:
+    case LobeType::RoughDielectric:
+    case LobeType::ThinDielectric: p.ior = CauchyIOR::from_abbe(m.ior, m.abbe); break;
     case LobeType::GGXConductor: {
-      if (!m.metal.empty()) {
+      p.microfacet = m.microfacet;
+      p.compensate = m.compensate;
+      if (m.artist) {
+        p.artist = true;
+        p.a = rgb_albedo(cs, m.reflectivity);
+        p.b = rgb_albedo(cs, m.edge_tint);
+      } else if (!m.metal.empty()) {
         const tables::MetalIOR* metal = tables::find_metal(m.metal);
         p.a = Spectrum::make_dense(metal_eta(*metal));
         p.b = Spectrum::make_dense(metal_k(*metal));
@@ -38,12 +57,6 @@ LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs) {
         p.a = rgb_unbounded(cs, m.eta_rgb);
         p.b = rgb_unbounded(cs, m.k_rgb);
       }
-      // Anisotropy stretches α along the tangent, shrinks it along the bitangent
-      // (the usual artist mapping; α = roughness²).
-      Float alpha = GGXDistribution::roughness_to_alpha(m.roughness);
-      Float aspect = std::sqrt(1 - 0.9f * std::fabs(m.anisotropy));
-      p.alpha_x = m.anisotropy >= 0 ? alpha / aspect : alpha * aspect;
-      p.alpha_y = m.anisotropy >= 0 ? alpha * aspect : alpha / aspect;
       break;
     }
   }
