@@ -198,3 +198,31 @@ def test_identical_layouts_are_shared():
     s.set_camera(eye=(4, 1, 10), target=(4, 0, 0))
     out = kauri.render(s, spp=1, resolution=(8, 8))
     assert out.stats["materials"] == 6 and out.stats["layer_layouts"] == 2
+
+
+def _window(dirt_weight, view_from_front):
+    m = kauri.Material("window", symmetric=False)
+    m.add_lobe("dirt", kauri.Lambert(albedo=(0.2, 0.2, 0.2)), weight=dirt_weight)
+    m.add_lobe("glass", kauri.ThinDielectric(ior=1.5))
+    m.combine("pane", "coat", "dirt", "glass")
+    s = kauri.Scene()
+    s.add_mesh(np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]), np.array([[0, 1, 2, 3]]), material=m)
+    s.add_environment(color=(1, 1, 1))
+    z = 3 if view_from_front else -3
+    s.set_camera(kind="orthographic", eye=(0, 0, z), target=(0, 0, 0), width=1.0)
+    return kauri.render(s, spp=512, resolution=(8, 8), seed=3).rgba[:, :, :3].mean()
+
+
+def test_dirty_window_front_and_back_differ_only_by_the_dirt():
+    # Thin glass at normal incidence: R' = 2R/(1+R), R = ((n−1)/(n+1))², T' = 1 − R'.
+    R = (0.5 / 2.5) ** 2
+    Rp = 2 * R / (1 + R)
+    w, rho = 0.4, 0.2
+    # Clean: the same from both sides (R' + T' = 1 in a white furnace).
+    np.testing.assert_allclose(_window(0.0, True), 1.0, rtol=0.01)
+    np.testing.assert_allclose(_window(0.0, False), 1.0, rtol=0.01)
+    # Dirty side in front: dirt on top (w ρ), the glass gets the rest (1 − w)(R' + T').
+    np.testing.assert_allclose(_window(w, True), w * rho + (1 - w), rtol=0.01)
+    # From behind: glass on top; it passes T' on to the dirt where the dirt is present
+    # and transmits the rest: R' + (1 − w) T' + w (1 − R') ρ.
+    np.testing.assert_allclose(_window(w, False), Rp + (1 - w) * (1 - Rp) + w * (1 - Rp) * rho, rtol=0.01)
