@@ -16,6 +16,7 @@ test: build
 
 bench: build
 	$(PYTHON) bench/bench_demo.py
+	$(PYTHON) bench/bench_layers.py
 
 clean:
 	rm -rf build demo.exr demo.png

@@ -5,10 +5,11 @@ Build a scene with :class:`Scene`, materials (:class:`Lambert`, :class:`Dielectr
 """
 from . import _core
 from .render import RenderOutput, render
-from .scene import (Attribute, Conductor, Dielectric, DiffuseTransmission, Emission, Lambert, Lobe, Material,
+from .scene import (Attribute, Conductor, Dielectric, DiffuseTransmission, Emission, EmissionLobe, Lambert, Lobe,
+                    Material,
                     RoughDielectric, Scene, SceneError, Sheen, ThinDielectric)
 
 __version__ = _core.__version__
 __all__ = ["Scene", "Lambert", "Dielectric", "Conductor", "Emission", "Material", "Lobe", "Attribute", "SceneError", "render",
-           "RoughDielectric", "ThinDielectric", "DiffuseTransmission", "Sheen",
+           "RoughDielectric", "ThinDielectric", "DiffuseTransmission", "Sheen", "EmissionLobe",
            "RenderOutput", "__version__"]

@@ -200,9 +200,39 @@ class Sheen(Lobe):
         super().__init__(name, color=c, roughness=_number(obj, "roughness", roughness, 0, 1))
 
 
+class EmissionLobe(Lobe):
+    """An emission node (EDF) for layered materials: diffuse (``focus=0``) or focused as
+    cos^focus (peak scaled so the exitance matches the diffuse EDF). Radiance from RGB
+    ``color`` (working space), a blackbody ``temperature`` (K, luminance 1) or a tabulated
+    ``spectrum`` [(nm, value), ...], times ``intensity``. Combine emission nodes with
+    ``add``; coat them under a varnish to dim them. Shapes with an emissive material are
+    lights. Weights in an emissive material must be constants."""
+    kind = "emission"
+
+    def __init__(self, color=(1.0, 1.0, 1.0), intensity: float = 1.0, temperature: float = 0.0, spectrum=None,
+                 focus: float = 0.0, two_sided: bool = False, name: str = "", **extra):
+        obj = f"material '{name or self.kind}'"
+        _check_keys(obj, extra, ["color", "intensity", "temperature", "spectrum", "focus", "two_sided", "name"])
+        c = _vec3(obj, "color", color)
+        if min(c) < 0:
+            raise SceneError(f"{obj}: parameter 'color': components must be >= 0")
+        spec = None
+        if spectrum is not None:
+            try:
+                arr = np.asarray(spectrum, dtype=np.float64)
+            except (TypeError, ValueError):
+                raise SceneError(f"{obj}: parameter 'spectrum': expected [(nm, value), ...]") from None
+            if arr.ndim != 2 or arr.shape[1] != 2:
+                raise SceneError(f"{obj}: parameter 'spectrum': expected an (n, 2) list of (nm, value)")
+            spec = [(float(a), float(b)) for a, b in arr]
+        super().__init__(name, color=c, intensity=_number(obj, "intensity", intensity, 0),
+                         temperature=_number(obj, "temperature", temperature, 0), spectrum=spec,
+                         focus=_number(obj, "focus", focus, 0, 1000), two_sided=bool(two_sided))
+
+
 LOBE_TYPES = {"lambert": Lambert, "dielectric": Dielectric, "conductor": Conductor,
               "rough_dielectric": RoughDielectric, "thin_dielectric": ThinDielectric,
-              "diffuse_transmission": DiffuseTransmission, "sheen": Sheen}
+              "diffuse_transmission": DiffuseTransmission, "sheen": Sheen, "emission": EmissionLobe}
 OPERATORS = ("mix", "coat", "blend", "add")
 
 

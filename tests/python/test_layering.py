@@ -226,3 +226,71 @@ def test_dirty_window_front_and_back_differ_only_by_the_dirt():
     # From behind: glass on top; it passes T' on to the dirt where the dirt is present
     # and transmits the rest: R' + (1 − w) T' + w (1 − R') ρ.
     np.testing.assert_allclose(_window(w, False), Rp + (1 - w) * (1 - Rp) + w * (1 - Rp) * rho, rtol=0.01)
+
+
+AP1_Y = np.array([0.2722287, 0.6740818, 0.0536895])
+
+
+def _panel_view(material, camera_dir=(0, 0, 1), spp=64):
+    """Camera looking straight at a panel facing +z, nothing else in the scene."""
+    s = kauri.Scene()
+    s.add_mesh(np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]), np.array([[0, 1, 2, 3]]), material=material)
+    d = np.asarray(camera_dir, float)
+    s.set_camera(kind="orthographic", eye=tuple(3 * d / np.linalg.norm(d)), target=(0, 0, 0), width=0.2)
+    return kauri.render(s, spp=spp, resolution=(4, 4), seed=2).rgba[:, :, :3].reshape(-1, 3).mean(axis=0)
+
+
+def test_add_of_emission_adds():
+    m = kauri.Material("lamp")
+    m.add_lobe("a", kauri.EmissionLobe(intensity=1.0))
+    m.add_lobe("b", kauri.EmissionLobe(intensity=2.0))
+    m.combine("both", "add", "a", "b")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # emission-only add is legal: no warning
+        rgb = _panel_view(m)
+    np.testing.assert_allclose(rgb, 3.0, rtol=0.01)  # spectral noise only
+
+
+def test_varnish_over_emission_dims_it_by_the_transmitted_energy():
+    m = kauri.Material("glowing_varnish")
+    m.add_lobe("varnish", kauri.Dielectric(ior=1.5))
+    m.add_lobe("glow", kauri.EmissionLobe(intensity=2.0))
+    m.combine("stack", "coat", "varnish", "glow")
+    np.testing.assert_allclose(_panel_view(m), 2.0 * (1 - 0.04), rtol=0.01)
+
+
+def test_focused_emission_keeps_exitance_and_peaks_on_axis():
+    n = 8.0
+    on_axis = _panel_view(kauri.Material("spot").add_lobe("e", kauri.EmissionLobe(focus=n)))
+    np.testing.assert_allclose(on_axis, (n + 2) / 2, rtol=0.01)
+    c = np.cos(np.radians(40))
+    off = _panel_view(kauri.Material("spot").add_lobe("e", kauri.EmissionLobe(focus=n)),
+                      camera_dir=(np.sin(np.radians(40)), 0, c))
+    np.testing.assert_allclose(off, (n + 2) / 2 * c ** n, rtol=0.01)
+
+
+def test_emissive_material_lights_the_scene_like_shape_emission():
+    def probe(use_material):
+        s = kauri.Scene()
+        P = np.array([[-20, 0, -20], [20, 0, -20], [20, 0, 20], [-20, 0, 20]])
+        s.add_mesh(P, np.array([[0, 3, 2, 1]]), material=kauri.Lambert(albedo=(0.5, 0.5, 0.5)))
+        lamp = np.array([[-0.5, 1, -0.5], [0.5, 1, -0.5], [0.5, 1, 0.5], [-0.5, 1, 0.5]])
+        if use_material:
+            m = kauri.Material("lamp_material")
+            m.add_lobe("e", kauri.EmissionLobe(intensity=4.0, temperature=4000))
+            s.add_mesh(lamp, np.array([[0, 1, 2, 3]]), material=m)
+        else:
+            s.add_mesh(lamp, np.array([[0, 1, 2, 3]]), emission=kauri.Emission(intensity=4.0, temperature=4000))
+        s.set_camera(kind="orthographic", eye=(0, 0.5, 0), target=(0, 0, 0), up=(0, 0, -1), width=0.01)
+        return kauri.render(s, spp=1024, resolution=(4, 4), seed=4).rgba[:, :, :3].reshape(-1, 3).mean(axis=0)
+    np.testing.assert_allclose(probe(True), probe(False), rtol=0.01)
+
+
+def test_tabulated_spectral_emission():
+    # A flat tabulated spectrum of value v has luminance Y = v.
+    flat = [(350.0, 2.0), (850.0, 2.0)]
+    rgb = _panel_view(kauri.Material("flat").add_lobe("e", kauri.EmissionLobe(spectrum=flat)), spp=256)
+    np.testing.assert_allclose(rgb @ AP1_Y, 2.0, rtol=0.01)
+    with pytest.raises(ValueError, match=r"spectrum.*increase"):
+        kauri.Scene().add_sphere(material=kauri.Material("bad").add_lobe(
+            "e", kauri.EmissionLobe(spectrum=[(500, 1), (400, 1)])))

@@ -7,13 +7,15 @@
 #include "kauri/bsdf/dielectric.h"
 #include "kauri/bsdf/diffuse_transmission.h"
 #include "kauri/bsdf/lambert.h"
+#include "kauri/bsdf/oren_nayar.h"
 #include "kauri/bsdf/rough_dielectric.h"
 #include "kauri/bsdf/sheen.h"
 #include "kauri/bsdf/thin_dielectric.h"
 
 namespace kauri {
 
-enum class LobeType : uint8_t { Lambert, SmoothDielectric, GGXConductor, DiffuseTransmission, RoughDielectric, ThinDielectric, Sheen };
+enum class LobeType : uint8_t { Lambert, SmoothDielectric, GGXConductor, DiffuseTransmission, RoughDielectric, ThinDielectric, Sheen,
+                               OrenNayar };
 
 struct Lobe {
   LobeType type = LobeType::Lambert;
@@ -25,6 +27,7 @@ struct Lobe {
     RoughDielectricLobe rough_dielectric;
     ThinDielectricLobe thin_dielectric;
     SheenLobe sheen;
+    OrenNayarLobe oren_nayar;
   };
 
   KAURI_HOST_DEVICE Lobe() : lambert() {}
@@ -36,6 +39,7 @@ struct Lobe {
   KAURI_HOST_DEVICE Lobe(const RoughDielectricLobe& l) : type(LobeType::RoughDielectric), rough_dielectric(l) {}
   KAURI_HOST_DEVICE Lobe(const ThinDielectricLobe& l) : type(LobeType::ThinDielectric), thin_dielectric(l) {}
   KAURI_HOST_DEVICE Lobe(const SheenLobe& l) : type(LobeType::Sheen), sheen(l) {}
+  KAURI_HOST_DEVICE Lobe(const OrenNayarLobe& l) : type(LobeType::OrenNayar), oren_nayar(l) {}
 
   /// Calls f(concrete_lobe) for the active member.
   template <class F>
@@ -47,6 +51,7 @@ struct Lobe {
       case LobeType::RoughDielectric: return f(rough_dielectric);
       case LobeType::ThinDielectric: return f(thin_dielectric);
       case LobeType::Sheen: return f(sheen);
+      case LobeType::OrenNayar: return f(oren_nayar);
       case LobeType::Lambert:
       default: return f(lambert);
     }
@@ -80,6 +85,7 @@ struct Lobe {
       case LobeType::DiffuseTransmission: return DiffuseTransmissionLobe::kScattering;
       case LobeType::ThinDielectric: return ThinDielectricLobe::kScattering;
       case LobeType::Sheen: return SheenLobe::kScattering;
+      case LobeType::OrenNayar: return OrenNayarLobe::kScattering;
       case LobeType::SmoothDielectric: return SmoothDielectricLobe::kScattering;
       case LobeType::Lambert:
       default: return LambertLobe::kScattering;

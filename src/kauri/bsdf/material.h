@@ -30,6 +30,9 @@ struct LobeParams {
   MicrofacetType microfacet = MicrofacetType::GGX;
   bool compensate = true;   // conductor multiple-scattering compensation
   bool artist = false;      // conductor: a, b are reflectivity and edge tint
+  bool emission = false;    // an EDF (emission node): a is its radiance; `type` is unused
+  bool two_sided = false;   // EDF emits from both sides
+  Float focus = 0;          // EDF: 0 diffuse, n > 0 a cos^n focused lobe
 
   KAURI_HOST_DEVICE Lobe instantiate(const SampledWavelengths& lambda) const {
     switch (type) {
@@ -74,6 +77,7 @@ struct LobeParams {
 };
 
 struct MaterialView {
+  bool emissive = false;      // has emission nodes: shapes using it are lights
   LayerProgram front;         // stack as authored, for rays arriving on the front side
   LayerProgram back;          // inverse order (single-sided) or the same (symmetric)
   int first_lobe = 0, n_lobes = 0;  // into SceneView::lobes
@@ -133,38 +137,73 @@ KAURI_HOST_DEVICE inline void apply_accumulation(Lobe& l, const LayerAbove& abov
 
 }  // namespace material_detail
 
-/// Builds the BSDF of material `m` at a hit. `attrs` are the interpolated
-/// per-vertex attributes; `wo_world` points away from the surface.
-KAURI_HOST_DEVICE inline void build_bsdf(const MaterialView& m, const LobeParams* lobe_params,
-                                         const ScalarInput* node_weights, const Float* attrs, const Frame& frame,
-                                         Normal3 ng, Vec3 wo_world, const SampledWavelengths& lambda, BSDF* bsdf) {
-  bsdf->frame = frame;
-  bsdf->ng = ng;
-  bsdf->n_lobes = 0;
+/// Radiance an emission node (EDF) sends towards local direction `wo`: diffuse, or
+/// focused as cos^n with the peak scaled by (n + 2)/2 so the radiant exitance matches
+/// the diffuse EDF of the same radiance.
+KAURI_HOST_DEVICE inline SampledSpectrum edf_radiance(const LobeParams& p, Vec3 wo, const SampledWavelengths& lambda) {
+  Float c = wo.z;
+  if (c <= 0 && !p.two_sided) return SampledSpectrum(0);
+  c = std::fabs(c);
+  Float shape = p.focus > 0 ? (p.focus + 2) / 2 * std::pow(c, p.focus) : Float(1);
+  return p.a.sample(lambda) * shape;
+}
+
+/// Evaluates material `m` at a point for the outgoing direction `wo_world`: fills
+/// `bsdf` (if given) with the weighted scattering lobes and adds the weighted
+/// emission towards `wo_world` to `*emitted` (if given). `attrs` are the
+/// interpolated per-vertex attributes.
+KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const LobeParams* lobe_params,
+                                                const ScalarInput* node_weights, const Float* attrs,
+                                                const Frame& frame, Normal3 ng, Vec3 wo_world,
+                                                const SampledWavelengths& lambda, BSDF* bsdf,
+                                                SampledSpectrum* emitted) {
+  if (bsdf) {
+    bsdf->frame = frame;
+    bsdf->ng = ng;
+    bsdf->n_lobes = 0;
+  }
   const int n = m.n_lobes < kMaxLayerNodes ? m.n_lobes : kMaxLayerNodes;
+  const LobeParams* params = lobe_params + m.first_lobe;
   Lobe lobes[kMaxLayerNodes];
-  for (int i = 0; i < n; ++i) lobes[i] = lobe_params[m.first_lobe + i].instantiate(lambda);
+  for (int i = 0; i < n; ++i)
+    if (!params[i].emission) lobes[i] = params[i].instantiate(lambda);
 
   // Single-sided stacks: arriving from behind the surface runs the inverse program.
   const LayerProgram& prog = dot(wo_world, ng) < 0 ? m.back : m.front;
   if (m.ior_accumulation || m.roughness_accumulation) {
     LobeInterface ifs[kMaxLayerNodes];
     LayerAbove above[kMaxLayerNodes];
-    for (int i = 0; i < n; ++i) ifs[i] = material_detail::lobe_interface(lobes[i]);
+    for (int i = 0; i < n; ++i)
+      ifs[i] = params[i].emission ? LobeInterface{} : material_detail::lobe_interface(lobes[i]);
     evaluate_accumulation(prog, ifs, above);
     for (int i = 0; i < n; ++i)
-      material_detail::apply_accumulation(lobes[i], above[i], m.ior_accumulation, m.roughness_accumulation);
+      if (!params[i].emission)
+        material_detail::apply_accumulation(lobes[i], above[i], m.ior_accumulation, m.roughness_accumulation);
   }
 
   Vec3 wo = frame.to_local(wo_world);
   LayerInputs in;
   for (int i = 0; i < prog.n_nodes; ++i) in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(attrs), 0, 1);
-  for (int i = 0; i < n; ++i) in.lobe_stopped[i] = SampledSpectrum(1) - lobes[i].albedo_t(wo);
+  // An EDF stops no light (a_t = 1): a layer under it is fully lit, one above it dims it.
+  for (int i = 0; i < n; ++i)
+    in.lobe_stopped[i] = params[i].emission ? SampledSpectrum(0) : SampledSpectrum(1) - lobes[i].albedo_t(wo);
   SampledSpectrum w[kMaxLayerNodes];
   Float transmission[kMaxLayerNodes];
   evaluate_layer_weights(prog, in, w, transmission);
-  for (int i = 0; i < n; ++i) bsdf->add(lobes[i], w[i], transmission[i]);
-  bsdf->prepare(wo_world);
+  for (int i = 0; i < n; ++i) {
+    if (params[i].emission) {
+      if (emitted) *emitted += w[i] * edf_radiance(params[i], wo, lambda);
+    } else if (bsdf) {
+      bsdf->add(lobes[i], w[i], transmission[i]);
+    }
+  }
+  if (bsdf) bsdf->prepare(wo_world);
+}
+
+KAURI_HOST_DEVICE inline void build_bsdf(const MaterialView& m, const LobeParams* lobe_params,
+                                         const ScalarInput* node_weights, const Float* attrs, const Frame& frame,
+                                         Normal3 ng, Vec3 wo_world, const SampledWavelengths& lambda, BSDF* bsdf) {
+  evaluate_material(m, lobe_params, node_weights, attrs, frame, ng, wo_world, lambda, bsdf, nullptr);
 }
 
 }  // namespace kauri

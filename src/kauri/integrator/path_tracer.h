@@ -13,6 +13,16 @@ namespace kauri {
 
 namespace path_detail {
 
+/// Radiance an emissive material sends from a point with geometric normal `n` towards `w`.
+KAURI_HOST_DEVICE inline SampledSpectrum material_emission(const SceneView& s, int material, Normal3 n, Vec3 w,
+                                                           const SampledWavelengths& lambda) {
+  SampledSpectrum Le(0);
+  const Float no_attrs[kMaxVertexAttributes] = {0, 0, 0, 0};  // emitters have constant weights
+  evaluate_material(s.materials[material], s.lobes, s.node_weights, no_attrs, Frame::from_z(n), n, w, lambda,
+                    nullptr, &Le);
+  return Le;
+}
+
 /// Emission reaching the camera along a path segment that ended on an emitter or escaped.
 KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const PathState& st, int light,
                                                   Vec3 wi, Point3 p_light, Normal3 n_light) {
@@ -34,6 +44,7 @@ KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel&
   if (pmf <= 0) return SampledSpectrum(0);
   const Light& light = s.lights[li];
   LightSample ls = sample_light(light, hit.p, u, lambda);
+  if (light.material >= 0 && ls.pdf > 0) ls.L = material_emission(s, light.material, ls.n_light, -ls.wi, lambda);
   if (!(ls.pdf > 0) || ls.L.is_black()) return SampledSpectrum(0);
   SampledSpectrum f = bsdf.eval(wo, ls.wi, TransportMode::Radiance) * absdot(ls.wi, bsdf.frame.z);
   if (f.is_black()) return SampledSpectrum(0);
@@ -74,7 +85,10 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     }
     if (hit.light >= 0) {
       const Light& l = s.lights[hit.light];
-      SampledSpectrum Le = area_light_L(l, hit.ng, wo, lambda);
+      // Emissive materials evaluate their EDFs in the shading frame; NEE uses the
+      // geometric frame (isotropic EDFs and lobe albedos agree up to the normal).
+      SampledSpectrum Le = l.material >= 0 ? path_detail::material_emission(s, l.material, hit.ng, wo, lambda)
+                                           : area_light_L(l, hit.ng, wo, lambda);
       if (!Le.is_black()) {
         Float w = path_detail::emitter_mis_weight(s, st, hit.light, ray.d, hit.p, hit.ng);
         out->add(st.beta * Le * w, st, ContributionKind::Emission);
@@ -83,9 +97,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     if (hit.material < 0) break;  // pure emitter: black surface
 
     BSDF bsdf;
-    // Shading frame on the side of ω_o keeps one-sided lobes meaningful.
-    Normal3 ns = hit.ns;
-    Frame frame = Frame::from_zx(ns, hit.dpdu);
+    const Frame frame = Frame::from_zx(hit.ns, hit.dpdu);
     build_bsdf(s.materials[hit.material], s.lobes, s.node_weights, hit.attrs, frame, hit.ng, wo, lambda, &bsdf);
     if (!out->albedo_set && (bsdf.has_non_specular() || st.depth + 1 >= cfg.max_depth)) {
       Vec3 wl = frame.to_local(wo);

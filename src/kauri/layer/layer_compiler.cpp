@@ -101,6 +101,7 @@ CompiledMaterial compile_material(const MaterialDesc& m) {
   std::set<std::string> on_stack, done;
   std::map<std::string, int> node_of;
   std::vector<std::vector<int>> child_nodes;
+  std::vector<bool> all_emission;  // per node: its subtree holds only emission nodes
   std::function<int(const std::string&)> visit = [&](const std::string& name) -> int {
     if (on_stack.count(name)) fail(m, name, "the layer graph has a cycle through this node");
     if (done.count(name)) fail(m, name, "is used as an input more than once (layer graphs are trees)");
@@ -108,20 +109,24 @@ CompiledMaterial compile_material(const MaterialDesc& m) {
     LayerNode node;
     std::vector<int> kids;
     ScalarInputDesc weight;
+    bool emission_only;
     if (lobe_index.count(name)) {
       const LobeDesc& l = m.lobes[size_t(lobe_index[name])];
       node.op = LayerOp::Lobe;
       node.lobe = int16_t(out.lobes.size());
       out.lobes.push_back(l);
       weight = l.weight;
+      emission_only = l.emission;
     } else {
       const LayerDesc& l = m.layers[size_t(layer_index[name])];
       node.op = l.op;
       for (const std::string& in : l.inputs) kids.push_back(visit(in));
       weight = l.weight;
-      if (l.op == LayerOp::Add) {
-        // Add creates energy: only meaningful on emission (notes §8.4.1). Lobes here
-        // are all scattering lobes, so the add becomes a coat.
+      emission_only = true;
+      for (int k : kids) emission_only = emission_only && all_emission[size_t(k)];
+      if (l.op == LayerOp::Add && !emission_only) {
+        // Add creates energy: only meaningful on emission (notes §8.4.1), so on
+        // anything that is not all EDFs it becomes a coat.
         node.op = LayerOp::Coat;
         out.warnings.push_back("material '" + m.name + "', node '" + name +
                                "': 'add' on scattering lobes would create energy; treated as 'coat'");
@@ -135,10 +140,18 @@ CompiledMaterial compile_material(const MaterialDesc& m) {
     node.n_children = uint8_t(kids.size());
     out.layout.nodes.push_back(node);
     out.node_weights.push_back(weight);
+    all_emission.push_back(emission_only);
     child_nodes.push_back(kids);
     return index;
   };
   visit(root);
+  bool has_emission = false;
+  for (const LobeDesc& l : out.lobes) has_emission = has_emission || l.emission;
+  if (has_emission)
+    for (size_t i = 0; i < out.node_weights.size(); ++i)
+      if (!out.node_weights[i].attribute.empty())
+        fail(m, "", "emits light, so its weights must be constants (attribute-driven weights on emitters "
+                    "are not supported yet)");
   if (out.lobes.size() > size_t(kMaxLobes))
     fail(m, "", "uses " + std::to_string(out.lobes.size()) + " lobes; at most " + std::to_string(kMaxLobes));
   for (const LobeDesc& l : m.lobes)

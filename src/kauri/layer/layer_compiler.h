@@ -30,6 +30,13 @@ struct LobeDesc {
   bool compensate = true;          // conductor: Kulla–Conty multiple scattering (ggx_conductor@2)
   bool artist = false;             // conductor: reflectivity + edge tint (Gulbrandsen 2014) instead of η, κ
   Vec3 reflectivity{0.9f, 0.9f, 0.9f}, edge_tint{0.9f, 0.9f, 0.9f};
+  // Emission node (EDF): radiance as RGB (working space), blackbody temperature or a
+  // tabulated spectrum (wavelength nm, value pairs), times intensity.
+  bool emission = false;
+  Vec3 emission_rgb{1, 1, 1};
+  Float temperature = 0, intensity = 1, focus = 0;
+  bool two_sided = false;
+  std::vector<float> spectrum_nm, spectrum_values;
   ScalarInputDesc weight;          // w_b
 };
 

@@ -34,7 +34,8 @@ struct LightSample {
 struct Light {
   LightType type = LightType::Point;
   bool two_sided = false;
-  Spectrum Le;                  // see the conventions above
+  int material = -1;            // area lights of emissive materials: radiance comes from the material's EDFs
+  Spectrum Le;                  // see the conventions above (for material lights: an estimate, for power)
   Point3 p0, p1, p2;            // triangle vertices; p0 = position/centre otherwise
   Normal3 n{0, 0, 1};           // triangle/disk normal, spot/distant direction (emission direction)
   Float radius = 0;             // sphere/disk radius

@@ -89,6 +89,20 @@ LobeDesc lobe_from_dict(const nb::dict& d) {
   } else if (type == "diffuse_transmission") {
     l.type = LobeType::DiffuseTransmission;
     l.albedo = v3(nb::cast<Vec3T>(d["transmittance"]));
+  } else if (type == "emission") {
+    l.emission = true;
+    l.emission_rgb = v3(nb::cast<Vec3T>(d["color"]));
+    l.temperature = nb::cast<float>(d["temperature"]);
+    l.intensity = nb::cast<float>(d["intensity"]);
+    l.focus = nb::cast<float>(d["focus"]);
+    l.two_sided = nb::cast<bool>(d["two_sided"]);
+    if (!d["spectrum"].is_none()) {
+      for (nb::handle pair : nb::cast<nb::list>(d["spectrum"])) {
+        nb::tuple t = nb::cast<nb::tuple>(pair);
+        l.spectrum_nm.push_back(nb::cast<float>(t[0]));
+        l.spectrum_values.push_back(nb::cast<float>(t[1]));
+      }
+    }
   } else if (type == "sheen") {
     l.type = LobeType::Sheen;
     l.albedo = v3(nb::cast<Vec3T>(d["color"]));

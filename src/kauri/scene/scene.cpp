@@ -55,6 +55,22 @@ void Scene::check_material(int material, const std::string& what) const {
 
 namespace {
 void check_lobe(const std::string& obj, const LobeDesc& m) {
+  if (m.emission) {
+    check_emission(obj, EmissionDesc{m.emission_rgb, m.temperature, m.intensity, m.two_sided});
+    check_range(obj, "focus", m.focus, 0, 1000);
+    if (m.spectrum_nm.size() != m.spectrum_values.size())
+      fail(obj, "spectrum", "wavelengths and values must have the same length");
+    if (!m.spectrum_nm.empty()) {
+      if (m.spectrum_nm.size() < 2) fail(obj, "spectrum", "needs at least 2 samples");
+      for (size_t i = 0; i < m.spectrum_nm.size(); ++i) {
+        if (!std::isfinite(m.spectrum_nm[i]) || !std::isfinite(m.spectrum_values[i]) || m.spectrum_values[i] < 0)
+          fail(obj, "spectrum", "samples must be finite, values >= 0");
+        if (i > 0 && !(m.spectrum_nm[i] > m.spectrum_nm[i - 1]))
+          fail(obj, "spectrum", "wavelengths must increase strictly");
+      }
+    }
+    return;
+  }
   switch (m.type) {
     case LobeType::Lambert:
       check_finite(obj, "albedo", m.albedo);

@@ -169,6 +169,7 @@ class CompiledScene {
   std::vector<ScalarInput> node_weights_;
   std::vector<std::unique_ptr<LayerLayout>> layouts_;  // unique layouts, shared by materials
   std::deque<std::vector<float>> attribute_arrays_;  // deque: element addresses stay put
+  std::deque<std::vector<float>> emission_tables_;   // tabulated EDF spectra (1 nm)
   std::vector<Light> lights_;
   std::vector<int> infinite_lights_;
   std::vector<std::vector<EnvTexel>> env_texels_;

@@ -1,5 +1,7 @@
 // Scene::compile: description → render-ready arrays, lights and Embree scenes.
 #include <cmath>
+#include <algorithm>
+#include <deque>
 #include <map>
 #include <stdexcept>
 
@@ -23,9 +25,36 @@ Spectrum emission_of(const EmissionDesc& e, const RGBColorSpace& cs) {
   return s;
 }
 
-LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs) {
+LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs, std::deque<std::vector<float>>* tables) {
   LobeParams p;
   p.type = m.type;
+  if (m.emission) {
+    p.emission = true;
+    p.two_sided = m.two_sided;
+    p.focus = m.focus;
+    if (!m.spectrum_nm.empty()) {
+      // Tabulated emission, resampled to 1 nm over 360..830 nm (linear, 0 outside).
+      std::vector<float> t(471);
+      for (int i = 0; i < 471; ++i) {
+        float lam = 360.0f + float(i);
+        const auto& x = m.spectrum_nm;
+        const auto& y = m.spectrum_values;
+        float v = 0;
+        if (lam >= x.front() && lam <= x.back()) {
+          size_t j = size_t(std::upper_bound(x.begin(), x.end(), lam) - x.begin());
+          j = std::min(std::max<size_t>(j, 1), x.size() - 1);
+          float f = (lam - x[j - 1]) / (x[j] - x[j - 1]);
+          v = y[j - 1] + f * (y[j] - y[j - 1]);
+        }
+        t[size_t(i)] = v * m.intensity;
+      }
+      tables->push_back(std::move(t));
+      p.a = Spectrum::make_dense(DenselySampled{tables->back().data(), 360, 1, 471});
+    } else {
+      p.a = emission_of(EmissionDesc{m.emission_rgb, m.temperature, m.intensity, m.two_sided}, cs);
+    }
+    return p;
+  }
   // Anisotropy stretches α along the tangent and shrinks it along the bitangent
   // (the usual artist mapping; α = roughness²).
   Float alpha = GGXDistribution::roughness_to_alpha(m.roughness);
@@ -216,7 +245,10 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
     v.first_weight = int(c.node_weights_.size());
     v.ior_accumulation = md.ior_accumulation;
     v.roughness_accumulation = md.roughness_accumulation;
-    for (const LobeDesc& l : cm.lobes) c.lobes_.push_back(lobe_params(l, cs));
+    for (const LobeDesc& l : cm.lobes) {
+      c.lobes_.push_back(lobe_params(l, cs, &c.emission_tables_));
+      v.emissive = v.emissive || l.emission;
+    }
     for (const ScalarInputDesc& w : cm.node_weights)
       c.node_weights_.push_back(ScalarInput{int16_t(w.attribute.empty() ? -1 : attribute_slot[w.attribute]), w.value});
     c.materials_.push_back(v);
@@ -291,9 +323,32 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
     if (k > 0) c.instance_views_.push_back(InstanceView{g, slot, false, inst_xf[k - 1]});
     const Transform* xf = k == 0 ? nullptr : &inst_xf[k - 1];
     for (const Shape& s : groups_[size_t(g)].shapes) {
-      if (s.emissive) {
+      const bool material_emits = s.material >= 0 && c.materials_[size_t(s.material)].emissive;
+      if (s.emissive && material_emits)
+        throw std::invalid_argument("shape '" + s.name + "': has both an emission parameter and an emissive material '" +
+                                    materials_[size_t(s.material)].name + "'; use one");
+      if (s.emissive || material_emits) {
         c.emitter_first_light_.push_back(int(c.lights_.size()));
+        size_t first = c.lights_.size();
         c.add_shape_lights(s, xf, cs);
+        if (material_emits) {
+          // Light selection needs a power estimate: the sum of the EDFs' radiances.
+          const MaterialView& mv = c.materials_[size_t(s.material)];
+          Spectrum est = Spectrum::make_constant(0);
+          Float y_total = 0;
+          for (int k = 0; k < mv.n_lobes; ++k) {
+            const LobeParams& lp = c.lobes_[size_t(mv.first_lobe + k)];
+            if (lp.emission) y_total += luminance(lp.a);
+          }
+          est = Spectrum::make_constant(y_total);
+          bool two_sided = false;
+          for (int k = 0; k < mv.n_lobes; ++k) two_sided = two_sided || c.lobes_[size_t(mv.first_lobe + k)].two_sided;
+          for (size_t li = first; li < c.lights_.size(); ++li) {
+            c.lights_[li].material = s.material;
+            c.lights_[li].Le = est;
+            c.lights_[li].two_sided = two_sided;
+          }
+        }
       } else {
         c.emitter_first_light_.push_back(-1);
       }
