@@ -6,10 +6,10 @@ Build a scene with :class:`Scene`, materials (:class:`Lambert`, :class:`Dielectr
 from . import _core
 from .render import RenderOutput, render
 from .scene import (Attribute, Conductor, Dielectric, DiffuseTransmission, Emission, EmissionLobe, Lambert, Lobe,
-                    Material,
+                    Material, OrenNayar,
                     RoughDielectric, Scene, SceneError, Sheen, ThinDielectric)
 
 __version__ = _core.__version__
 __all__ = ["Scene", "Lambert", "Dielectric", "Conductor", "Emission", "Material", "Lobe", "Attribute", "SceneError", "render",
-           "RoughDielectric", "ThinDielectric", "DiffuseTransmission", "Sheen", "EmissionLobe",
+           "RoughDielectric", "ThinDielectric", "DiffuseTransmission", "Sheen", "EmissionLobe", "OrenNayar",
            "RenderOutput", "__version__"]

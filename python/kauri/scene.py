@@ -95,6 +95,20 @@ class Lambert(Lobe):
         super().__init__(name, albedo=a)
 
 
+class OrenNayar(Lobe):
+    """Energy-preserving rough diffuse (``oren_nayar@1``, EON: Fujii's Oren–Nayar form plus
+    an exact multiple-scattering term): ``roughness`` 0 is Lambert; a white lobe reflects 1."""
+    kind = "oren_nayar"
+
+    def __init__(self, albedo=(0.8, 0.8, 0.8), roughness: float = 0.5, name: str = "", **extra):
+        obj = f"material '{name or self.kind}'"
+        _check_keys(obj, extra, ["albedo", "roughness", "name"])
+        a = _vec3(obj, "albedo", albedo)
+        if min(a) < 0 or max(a) > 1:
+            raise SceneError(f"{obj}: parameter 'albedo': components must lie in [0, 1], got {a}")
+        super().__init__(name, albedo=a, roughness=_number(obj, "roughness", roughness, 0, 1))
+
+
 class Dielectric(Lobe):
     """Smooth dielectric (``smooth_dielectric@1``): glass, water.
 
@@ -230,7 +244,7 @@ class EmissionLobe(Lobe):
                          focus=_number(obj, "focus", focus, 0, 1000), two_sided=bool(two_sided))
 
 
-LOBE_TYPES = {"lambert": Lambert, "dielectric": Dielectric, "conductor": Conductor,
+LOBE_TYPES = {"lambert": Lambert, "oren_nayar": OrenNayar, "dielectric": Dielectric, "conductor": Conductor,
               "rough_dielectric": RoughDielectric, "thin_dielectric": ThinDielectric,
               "diffuse_transmission": DiffuseTransmission, "sheen": Sheen, "emission": EmissionLobe}
 OPERATORS = ("mix", "coat", "blend", "add")

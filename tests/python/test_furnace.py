@@ -87,3 +87,10 @@ def test_rough_white_conductor_matches_single_scattering_albedo(furnace_scene):
     assert np.all(mean <= 1.0)
     # The camera is at a finite distance, so μ is not exactly 2μ-distributed: 1.5%.
     np.testing.assert_allclose(mean, expected, rtol=0.015)
+
+
+@pytest.mark.parametrize("roughness", [0.0, 0.5, 1.0])
+def test_oren_nayar_white_furnace(furnace_scene, roughness):
+    s = furnace_scene(kauri.OrenNayar(albedo=(1, 1, 1), roughness=roughness))
+    out = kauri.render(s, spp=64, resolution=(48, 48), seed=8)
+    np.testing.assert_allclose(interior_mean(out), 1.0, rtol=0.005)

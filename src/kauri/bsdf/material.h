@@ -65,6 +65,7 @@ struct LobeParams {
         return Lobe(ThinDielectricLobe::make(eta));
       }
       case LobeType::DiffuseTransmission: return Lobe(DiffuseTransmissionLobe::make(a.sample(lambda)));
+      case LobeType::OrenNayar: return Lobe(OrenNayarLobe::make(a.sample(lambda), alpha_x));
       case LobeType::Sheen: return Lobe(SheenLobe::make(a.sample(lambda), alpha_x));
       case LobeType::Lambert:
       default: {

@@ -89,6 +89,10 @@ LobeDesc lobe_from_dict(const nb::dict& d) {
   } else if (type == "diffuse_transmission") {
     l.type = LobeType::DiffuseTransmission;
     l.albedo = v3(nb::cast<Vec3T>(d["transmittance"]));
+  } else if (type == "oren_nayar") {
+    l.type = LobeType::OrenNayar;
+    l.albedo = v3(nb::cast<Vec3T>(d["albedo"]));
+    l.roughness = nb::cast<float>(d["roughness"]);
   } else if (type == "emission") {
     l.emission = true;
     l.emission_rgb = v3(nb::cast<Vec3T>(d["color"]));

@@ -72,6 +72,9 @@ void check_lobe(const std::string& obj, const LobeDesc& m) {
     return;
   }
   switch (m.type) {
+    case LobeType::OrenNayar:
+      check_range(obj, "roughness", m.roughness, 0, 1);
+      [[fallthrough]];
     case LobeType::Lambert:
       check_finite(obj, "albedo", m.albedo);
       for (int i = 0; i < 3; ++i) check_range(obj, "albedo", m.albedo[i], 0, 1);

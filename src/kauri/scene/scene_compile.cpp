@@ -65,8 +65,9 @@ LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs, std::deque<st
     case LobeType::Lambert:
     case LobeType::DiffuseTransmission: p.a = rgb_albedo(cs, m.albedo); break;
     case LobeType::Sheen:
+    case LobeType::OrenNayar:
       p.a = rgb_albedo(cs, m.albedo);
-      p.alpha_x = p.alpha_y = m.roughness;  // the sheen lobe takes its roughness directly
+      p.alpha_x = p.alpha_y = m.roughness;  // these lobes take their roughness directly
       break;
     case LobeType::SmoothDielectric:
     case LobeType::RoughDielectric:
