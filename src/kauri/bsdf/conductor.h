@@ -60,6 +60,8 @@ struct GGXConductorLobe {
   GGXDistribution mf;      // {αx, αy} = GGX; set mf.type = MicrofacetType::Beckmann for Beckmann
   SampledSpectrum eta, k;  // complex IOR η + iκ relative to the outside
   bool compensate = true;  // Kulla–Conty multiple-scattering term
+  bool ms_cached = false;  // F_ms below is valid (set by cache_multiple_scattering())
+  SampledSpectrum ms_colour;
 
   KAURI_HOST_DEVICE const char* name() const { return compensate ? kName : kNameUncompensated; }
   KAURI_HOST_DEVICE Scattering scattering() const {
@@ -76,9 +78,19 @@ struct GGXConductorLobe {
   /// Kulla & Conty 2017: F_ms = F_avg² E_avg / (1 − F_avg (1 − E_avg)), the colour of
   /// the multiply scattered energy (a geometric series of bounces, each tinted by F_avg).
   KAURI_HOST_DEVICE SampledSpectrum F_ms(Float e_avg) const {
+    if (ms_cached) return ms_colour;
     SampledSpectrum fa = fresnel_conductor_avg(eta, k), r;
     for (int i = 0; i < kSpectrumSamples; ++i) r[i] = sqr(fa[i]) * e_avg / fmax_(1 - fa[i] * (1 - e_avg), 1e-6f);
     return r;
+  }
+
+  /// F_ms depends only on η, κ and roughness: computing it once per hit (after any
+  /// IOR/roughness accumulation changed them) saves its Fresnel quadrature in every
+  /// eval/pdf/albedo query. Call again if η, κ or α change.
+  KAURI_HOST_DEVICE void cache_multiple_scattering() {
+    ms_cached = false;
+    ms_colour = F_ms(E_avg());
+    ms_cached = true;
   }
 
   /// Single scattering, Torrance–Sparrow: f = D(ω_m) G(ω_o, ω_i) F(ω_o·ω_m) / (4 cosθ_o cosθ_i);
@@ -164,7 +176,7 @@ struct GGXConductorLobe {
   ///   E_ss,F(μo) + F_ms (1 − E(μo)),
   /// where the second term is exact for the compensation lobe (∫ f_ms μ_i dω_i = 1 − E(μo)
   /// given the table's E_avg) and E_ss,F ≈ E(μo) · F̄(μo), with F̄ the Fresnel averaged
-  /// over a 4×4 midpoint quadrature of the VNDF sample square weighted by G2/G1 (a ratio
+  /// over a 3×3 midpoint quadrature of the VNDF sample square weighted by G2/G1 (a ratio
   /// estimator: the table fixes the magnitude, the quadrature only the colour).
   /// Accuracy ~1% against Monte Carlo for metals (test_conductor_energy.cpp).
   KAURI_HOST_DEVICE SampledSpectrum albedo_r(Vec3 wo) const {
@@ -174,9 +186,11 @@ struct GGXConductorLobe {
     SampledSpectrum fsum(0);
     Float wsum = 0;
     const Float g1 = mf.G1(wo_up);
-    for (int b = 0; b < 4; ++b)
-      for (int a = 0; a < 4; ++a) {
-        Vec3 wm = mf.sample_visible_normal(wo_up, Vec2{(Float(a) + 0.5f) / 4, (Float(b) + 0.5f) / 4});
+    // 3×3 nodes: this runs once per hit (lobe selection); 4×4 cost ~2.4 µs per hit,
+    // 2×2 erred by up to 3.5% against Monte Carlo.
+    for (int b = 0; b < 3; ++b)
+      for (int a = 0; a < 3; ++a) {
+        Vec3 wm = mf.sample_visible_normal(wo_up, Vec2{(Float(a) + 0.5f) / 3, (Float(b) + 0.5f) / 3});
         Vec3 wi = reflect(wo_up, wm);
         if (wi.z <= 0) continue;
         Float w = mf.G(wo_up, wi) / g1;

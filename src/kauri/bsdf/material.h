@@ -182,6 +182,9 @@ KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const Lob
         material_detail::apply_accumulation(lobes[i], above[i], m.ior_accumulation, m.roughness_accumulation);
   }
 
+  for (int i = 0; i < n; ++i)
+    if (!params[i].emission && lobes[i].type == LobeType::GGXConductor) lobes[i].conductor.cache_multiple_scattering();
+
   Vec3 wo = frame.to_local(wo_world);
   LayerInputs in;
   for (int i = 0; i < prog.n_nodes; ++i) in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(attrs), 0, 1);
