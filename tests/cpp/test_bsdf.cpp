@@ -13,34 +13,15 @@
 #include <vector>
 
 #include "chi2.h"
+#include "lobe_test_util.h"
 #include "kauri/bsdf/bsdf.h"
 
 namespace kauri {
 namespace {
 
 using test::SphereChi2Config;
+using namespace test;
 
-Vec2 next_2d(PCG32& rng) {
-  Float a = rng.next_float();
-  return {a, rng.next_float()};
-}
-
-SampledWavelengths test_wavelengths() { return SampledWavelengths::sample_visible(0.3f); }
-
-/// Unit direction with the given cosθ and azimuth φ (local frame).
-Vec3 dir(Float cos_t, Float phi) {
-  Float s = safe_sqrt(1 - cos_t * cos_t);
-  return {s * std::cos(phi), s * std::sin(phi), cos_t};
-}
-
-SampledSpectrum spectrum4(Float a, Float b, Float c, Float d) {
-  SampledSpectrum s;
-  s[0] = a;
-  s[1] = b;
-  s[2] = c;
-  s[3] = d;
-  return s;
-}
 
 LambertLobe lambert(SampledSpectrum albedo) {
   LambertLobe l;
@@ -112,36 +93,6 @@ void check_lobe_sampling(const L& lobe, Vec3 wo, const std::string& name, uint64
   EXPECT_TRUE(test::sphere_chi2(sample, [&](Vec3 w) { return double(lobe.pdf(wo, w)); }, cfg));
   EXPECT_EQ(f_mismatch, 0) << name << ": sample().f != eval(), max rel. error " << max_f_err;
   EXPECT_EQ(pdf_mismatch, 0) << name << ": sample().pdf != pdf(), max rel. error " << max_pdf_err;
-}
-
-struct Albedo {
-  double mean[kSpectrumSamples];
-  double sigma[kSpectrumSamples];
-};
-
-/// Monte Carlo directional albedo ∫ f |cosθ_i| dω_i = E[f |cosθ_i| / pdf] (failed samples count 0).
-template <class L>
-Albedo directional_albedo(const L& lobe, Vec3 wo, uint64_t seed, int n, TransportMode mode = TransportMode::Radiance) {
-  PCG32 rng(seed, 3);
-  const SampledWavelengths lambda0 = test_wavelengths();
-  double sum[kSpectrumSamples] = {}, sum2[kSpectrumSamples] = {};
-  for (int k = 0; k < n; ++k) {
-    SampledWavelengths lambda = lambda0;
-    Float uc = rng.next_float();
-    BSDFSample s = lobe.sample(wo, uc, next_2d(rng), lambda, mode);
-    if (!s.valid()) continue;
-    for (int i = 0; i < kSpectrumSamples; ++i) {
-      double w = double(s.f[i]) * std::fabs(double(s.wi.z)) / double(s.pdf);
-      sum[i] += w;
-      sum2[i] += w * w;
-    }
-  }
-  Albedo a;
-  for (int i = 0; i < kSpectrumSamples; ++i) {
-    a.mean[i] = sum[i] / n;
-    a.sigma[i] = std::sqrt(std::max(0.0, sum2[i] / n - a.mean[i] * a.mean[i]) / n);
-  }
-  return a;
 }
 
 // ---------------------------------------------------------------- sampling vs pdf

@@ -10,27 +10,14 @@
 #include <string>
 
 #include "chi2.h"
+#include "lobe_test_util.h"
 #include "kauri/bsdf/bsdf.h"
 
 namespace kauri {
 namespace {
 
-Vec2 next_2d(PCG32& rng) {
-  Float a = rng.next_float();
-  return {a, rng.next_float()};
-}
-Vec3 dir(Float cos_t, Float phi) {
-  Float s = safe_sqrt(1 - cos_t * cos_t);
-  return {s * std::cos(phi), s * std::sin(phi), cos_t};
-}
-SampledSpectrum spectrum4(Float a, Float b, Float c, Float d) {
-  SampledSpectrum s;
-  s[0] = a;
-  s[1] = b;
-  s[2] = c;
-  s[3] = d;
-  return s;
-}
+using namespace test;
+
 std::string fmt(double v) { return std::to_string(v); }
 
 GGXConductorLobe conductor(Float ax, Float ay, MicrofacetType t, bool white, bool compensate = true) {
@@ -47,33 +34,8 @@ GGXConductorLobe conductor(Float ax, Float ay, MicrofacetType t, bool white, boo
   return l;
 }
 
-struct Albedo {
-  double mean[kSpectrumSamples];
-  double sigma[kSpectrumSamples];
-};
-
-/// Monte Carlo ∫ f |cosθ_i| dω_i with the lobe's own sampler.
 Albedo mc_albedo(const GGXConductorLobe& lobe, Vec3 wo, uint64_t seed, int n) {
-  PCG32 rng(seed, 7);
-  SampledWavelengths lambda0 = SampledWavelengths::sample_visible(0.3f);
-  double sum[kSpectrumSamples] = {}, sum2[kSpectrumSamples] = {};
-  for (int k = 0; k < n; ++k) {
-    SampledWavelengths lambda = lambda0;
-    Float uc = rng.next_float();
-    BSDFSample s = lobe.sample(wo, uc, next_2d(rng), lambda, TransportMode::Radiance);
-    if (!s.valid()) continue;
-    for (int i = 0; i < kSpectrumSamples; ++i) {
-      double w = double(s.f[i]) * std::fabs(double(s.wi.z)) / double(s.pdf);
-      sum[i] += w;
-      sum2[i] += w * w;
-    }
-  }
-  Albedo a;
-  for (int i = 0; i < kSpectrumSamples; ++i) {
-    a.mean[i] = sum[i] / n;
-    a.sigma[i] = std::sqrt(std::max(0.0, sum2[i] / n - a.mean[i] * a.mean[i]) / n);
-  }
-  return a;
+  return directional_albedo(lobe, wo, seed, n, TransportMode::Radiance, 7);
 }
 
 /// Fresh deterministic estimate of the single-scattering E(μ) (F = 1), by a finer

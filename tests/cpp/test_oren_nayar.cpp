@@ -8,33 +8,17 @@
 #include <string>
 
 #include "chi2.h"
+#include "lobe_test_util.h"
 #include "kauri/bsdf/lobe.h"
 
 namespace kauri {
 namespace {
 
+using namespace test;
+
 constexpr double kPi = 3.14159265358979323846;
 
-Vec2 next_2d(PCG32& rng) {
-  Float a = rng.next_float();
-  return {a, rng.next_float()};
-}
 
-Vec3 dir(Float cos_t, Float phi) {
-  Float s = safe_sqrt(1 - cos_t * cos_t);
-  return {s * std::cos(phi), s * std::sin(phi), cos_t};
-}
-
-SampledSpectrum spectrum4(Float a, Float b, Float c, Float d) {
-  SampledSpectrum s;
-  s[0] = a;
-  s[1] = b;
-  s[2] = c;
-  s[3] = d;
-  return s;
-}
-
-SampledWavelengths test_wavelengths() { return SampledWavelengths::sample_visible(0.3f); }
 
 /// Chi-square of sample() against pdf(), plus sample().f == eval(), sample().pdf == pdf().
 void check_sampling(const OrenNayarLobe& lobe, Vec3 wo, const std::string& name, uint64_t seed) {
@@ -80,25 +64,11 @@ double quad_albedo(const OrenNayarLobe& l, Vec3 wo, int ch, int n = 512) {
   return sum * (1.0 / n) * (2 * kPi / (2 * n));
 }
 
-/// Monte Carlo ∫ f |cosθ_i| dω_i with the lobe's own sampling, per channel.
 void mc_albedo(const OrenNayarLobe& l, Vec3 wo, uint64_t seed, int n, double* mean, double* sigma) {
-  PCG32 rng(seed, 7);
-  double s1[kSpectrumSamples] = {}, s2[kSpectrumSamples] = {};
-  SampledWavelengths lambda0 = test_wavelengths();
-  for (int k = 0; k < n; ++k) {
-    SampledWavelengths lambda = lambda0;
-    Float uc = rng.next_float();
-    BSDFSample s = l.sample(wo, uc, next_2d(rng), lambda, TransportMode::Radiance);
-    if (!s.valid()) continue;
-    for (int i = 0; i < kSpectrumSamples; ++i) {
-      double w = double(s.f[i]) * std::fabs(double(s.wi.z)) / double(s.pdf);
-      s1[i] += w;
-      s2[i] += w * w;
-    }
-  }
+  Albedo a = directional_albedo(l, wo, seed, n, TransportMode::Radiance, 7);
   for (int i = 0; i < kSpectrumSamples; ++i) {
-    mean[i] = s1[i] / n;
-    sigma[i] = std::sqrt(std::max(0.0, s2[i] / n - mean[i] * mean[i]) / n);
+    mean[i] = a.mean[i];
+    sigma[i] = a.sigma[i];
   }
 }
 
