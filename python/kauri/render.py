@@ -9,7 +9,7 @@ from . import _core
 from .scene import Scene, SceneError
 
 _RENDER_KEYS = ("spp", "resolution", "seed", "threads", "time_limit", "sampler", "max_depth", "max_diffuse",
-                "max_glossy", "max_transmission", "clamp", "filter", "filter_radius", "progress")
+                "max_glossy", "max_transmission", "clamp", "filter", "filter_radius", "filter_sigma", "progress")
 
 
 @dataclass
@@ -35,10 +35,12 @@ class RenderOutput:
 def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, threads: int = 0,
            time_limit: float = 0.0, sampler: str = "sobol", max_depth: int = 16, max_diffuse: int = 6,
            max_glossy: int = 8, max_transmission: int = 12, clamp: float = 0.0, filter: str = "gaussian",
-           filter_radius: float = 1.5, progress: bool = False, **extra) -> RenderOutput:
+           filter_radius: float = 2.0, filter_sigma: float = 0.5, progress: bool = False,
+           **extra) -> RenderOutput:
     """Renders ``scene``; returns a RenderOutput. Stops after ``spp`` samples per pixel or at
     the first pass boundary after ``time_limit`` seconds. Deterministic for a given seed,
-    whatever ``threads`` is."""
+    whatever ``threads`` is. The pixel filter is a Gaussian of std-dev ``filter_sigma``
+    truncated at ``filter_radius`` pixels (0.5 / 2.0, Mitsuba's defaults), or a box."""
     if extra:
         raise SceneError(f"render: unknown parameter(s) {', '.join(map(repr, sorted(extra)))}; "
                          f"allowed: {', '.join(_RENDER_KEYS)}")
@@ -57,5 +59,5 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
         raise SceneError("render: parameter 'seed': must be >= 0")
     r = _core.render(scene._core, w, h, int(spp), int(seed), int(threads), float(time_limit), sampler,
                      int(max_depth), int(max_diffuse), int(max_glossy), int(max_transmission), float(clamp),
-                     filter, float(filter_radius), bool(progress))
+                     filter, float(filter_radius), float(filter_sigma), bool(progress))
     return RenderOutput(r.rgba, r.albedo, r.normal, r.depth, r.stats, r.color_space, r)

@@ -15,7 +15,7 @@ enum class FilterType : uint8_t { Gaussian, Box };
 struct PixelFilter {
   FilterType type = FilterType::Gaussian;
   Float sigma = 0.5f;   // Gaussian standard deviation (pixels)
-  Float radius = 1.5f;  // support half-width (pixels)
+  Float radius = 2.0f;  // support half-width (pixels): 4σ, as Mitsuba 3's default
 
   /// Offset from the pixel centre, distributed ∝ the filter.
   KAURI_HOST_DEVICE Vec2 sample(Vec2 u) const {

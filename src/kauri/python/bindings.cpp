@@ -283,7 +283,7 @@ NB_MODULE(_core, m) {
 
   m.def("render", [](const Scene& scene, int width, int height, int spp, uint64_t seed, int threads, double time_limit,
                      const std::string& sampler, int max_depth, int max_diffuse, int max_glossy, int max_transmission,
-                     float clamp, const std::string& filter, float filter_radius, bool progress) {
+                     float clamp, const std::string& filter, float filter_radius, float filter_sigma, bool progress) {
     if (spp <= 0) throw std::invalid_argument("render: parameter 'spp': must be > 0");
     if (threads < 0) throw std::invalid_argument("render: parameter 'threads': must be >= 0");
     if (!(time_limit >= 0)) throw std::invalid_argument("render: parameter 'time_limit': must be >= 0");
@@ -310,7 +310,8 @@ NB_MODULE(_core, m) {
     else throw std::invalid_argument("render: parameter 'filter': expected 'gaussian' or 'box', got '" + filter + "'");
     if (!(filter_radius > 0 && filter_radius <= 8)) throw std::invalid_argument("render: parameter 'filter_radius': must be in (0, 8]");
     cfg.filter.radius = filter_radius;
-    cfg.filter.sigma = filter == "gaussian" ? filter_radius / 3 : filter_radius;
+    if (!(filter_sigma > 0)) throw std::invalid_argument("render: parameter 'filter_sigma': must be > 0");
+    cfg.filter.sigma = filter_sigma;
     cfg.progress = progress;
     auto* out = new PyRenderResult{{}, scene.color_space_id(), seed};
     try {

@@ -1,0 +1,73 @@
+"""Export neutral scene descriptions (bench/scenes) to kauri and to Mitsuba 3 and render
+them side by side. Only features both renderers model the same way are used: Lambertian
+quads, one-sided diffuse area lights, a pinhole camera, a Gaussian pixel filter."""
+from __future__ import annotations
+
+import numpy as np
+
+import kauri
+
+
+def to_kauri(desc) -> kauri.Scene:
+    s = kauri.Scene(color_space=desc["color_space"])
+    for sh in desc["shapes"]:
+        P = np.array(sh["quad"], np.float32)
+        I = np.array([[0, 1, 2, 3]])
+        if "emission" in sh:
+            e = sh["emission"]
+            peak = max(e)
+            s.add_mesh(P, I, emission=kauri.Emission(color=tuple(c / peak for c in e), intensity=peak),
+                       name=sh["name"])
+        else:
+            s.add_mesh(P, I, material=kauri.Lambert(albedo=sh["diffuse"], name=sh["name"]), name=sh["name"])
+    c = desc["camera"]
+    s.set_camera(eye=c["eye"], target=c["target"], up=c["up"], fov=c["fov_x"], fov_axis="x")
+    return s
+
+
+def _rectangle_to_world(quad):
+    """Mitsuba's rectangle is [-1, 1]² in z = 0 facing +z; map it onto parallelogram a b c d."""
+    a, b, c, d = (np.asarray(p, float) for p in quad)
+    u, v = (b - a) / 2, (d - a) / 2
+    n = np.cross(u, v)
+    n /= np.linalg.norm(n)
+    M = np.eye(4)
+    M[:3, 0], M[:3, 1], M[:3, 2], M[:3, 3] = u, v, n, (a + c) / 2
+    return M
+
+
+def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65):
+    """A Mitsuba 3 scene dict (load with mi.load_dict after mi.set_variant)."""
+    import mitsuba as mi
+    cam = desc["camera"]
+    d = {"type": "scene",
+         "integrator": {"type": "path", "max_depth": max_depth},
+         "sensor": {"type": "perspective", "fov": cam["fov_x"], "fov_axis": "x",
+                    "to_world": mi.ScalarTransform4f().look_at(origin=list(map(float, cam["eye"])),
+                                                               target=list(map(float, cam["target"])),
+                                                               up=list(map(float, cam["up"]))),
+                    "sampler": {"type": "independent", "sample_count": spp},
+                    "film": {"type": "hdrfilm", "width": resolution[0], "height": resolution[1],
+                             "rfilter": {"type": "gaussian", "stddev": 0.5}, "pixel_format": "rgb"}}}
+    for sh in desc["shapes"]:
+        shape = {"type": "rectangle", "to_world": mi.ScalarTransform4f(_rectangle_to_world(sh["quad"]).tolist())}
+        if "emission" in sh:
+            shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": list(sh["emission"])}}
+            shape["bsdf"] = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.0, 0.0, 0.0]}}
+        else:
+            shape["bsdf"] = {"type": "diffuse", "reflectance": {"type": "rgb", "value": list(sh["diffuse"])}}
+        d[sh["name"]] = shape
+    return d
+
+
+def render_mitsuba(desc, variant="scalar_rgb", spp=64, resolution=(64, 64), seed=0):
+    import mitsuba as mi
+    mi.set_variant(variant)
+    scene = mi.load_dict(to_mitsuba(desc, spp, resolution))
+    return np.array(mi.render(scene, seed=seed), dtype=np.float64)
+
+
+def render_kauri(desc, spp=64, resolution=(64, 64), seed=0):
+    out = kauri.render(to_kauri(desc), spp=spp, resolution=resolution, seed=seed, max_depth=64, max_diffuse=64,
+                       max_glossy=64, max_transmission=64)
+    return out.rgba[:, :, :3].astype(np.float64)
