@@ -11,6 +11,10 @@ import kauri
 def to_kauri(desc) -> kauri.Scene:
     s = kauri.Scene(color_space=desc["color_space"])
     for sh in desc["shapes"]:
+        if "sphere" in sh:
+            (center, radius) = sh["sphere"]
+            s.add_sphere(center=center, radius=radius, material=kauri.Lambert(albedo=sh["diffuse"]), name=sh["name"])
+            continue
         P = np.array(sh["quad"], np.float32)
         I = np.array([[0, 1, 2, 3]])
         if "emission" in sh:
@@ -20,6 +24,8 @@ def to_kauri(desc) -> kauri.Scene:
                        name=sh["name"])
         else:
             s.add_mesh(P, I, material=kauri.Lambert(albedo=sh["diffuse"], name=sh["name"]), name=sh["name"])
+    if "environment" in desc:
+        s.add_environment(image=desc["environment"])
     c = desc["camera"]
     s.set_camera(eye=c["eye"], target=c["target"], up=c["up"], fov=c["fov_x"], fov_axis="x")
     return s
@@ -49,7 +55,14 @@ def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65):
                     "sampler": {"type": "independent", "sample_count": spp},
                     "film": {"type": "hdrfilm", "width": resolution[0], "height": resolution[1],
                              "rfilter": {"type": "gaussian", "stddev": 0.5}, "pixel_format": "rgb"}}}
+    if "environment" in desc:
+        d["sky"] = {"type": "envmap", "bitmap": mi.Bitmap(np.asarray(desc["environment"], np.float32))}
     for sh in desc["shapes"]:
+        if "sphere" in sh:
+            (center, radius) = sh["sphere"]
+            d[sh["name"]] = {"type": "sphere", "center": list(map(float, center)), "radius": float(radius),
+                             "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": list(sh["diffuse"])}}}
+            continue
         shape = {"type": "rectangle", "to_world": mi.ScalarTransform4f(_rectangle_to_world(sh["quad"]).tolist())}
         if "emission" in sh:
             shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": list(sh["emission"])}}
