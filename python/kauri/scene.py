@@ -164,8 +164,9 @@ class Conductor(Lobe):
 
 
 class RoughDielectric(Lobe):
-    """Rough GGX dielectric (``ggx_dielectric@1``): frosted glass, rough water; reflection and
-    refraction. ``ior`` at 587.6 nm, ``abbe`` for dispersion, ``roughness``, ``anisotropy``."""
+    """Rough GGX dielectric (``ggx_dielectric@2``: with multiple-scattering compensation from
+    our own albedo tables): frosted glass, rough water; reflection and refraction. ``ior`` at
+    587.6 nm, ``abbe`` for dispersion, ``roughness``, ``anisotropy``."""
     kind = "rough_dielectric"
 
     def __init__(self, ior: float = 1.5, roughness: float = 0.2, anisotropy: float = 0.0, abbe: float = 0.0,

@@ -93,6 +93,7 @@ struct Lobe {
   }
   KAURI_HOST_DEVICE const char* name() const {
     if (type == LobeType::GGXConductor) return conductor.name();  // @1 or @2 (compensated)
+    if (type == LobeType::RoughDielectric) return rough_dielectric.name();
     return dispatch([](const auto& l) { return l.kName; });
   }
 };
