@@ -7,7 +7,7 @@ import os
 import sys
 import time
 
-DEMO_SPP = 96
+DEMO_SPP = 80
 DEMO_CLAMP = 8.0
 DEMO_RES = "512x512"
 

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <string>
 
 #include "kauri/bsdf/bsdf_types.h"
 #include "kauri/sampler/rng.h"
@@ -30,6 +33,16 @@ inline SampledSpectrum spectrum4(Float a, Float b, Float c, Float d) {
   s[2] = c;
   s[3] = d;
   return s;
+}
+
+inline std::string fmt(double v, int prec = 4) {
+  std::ostringstream o;
+  o << std::setprecision(prec) << v;
+  return o.str();
+}
+
+inline bool rel_close(double a, double b, double tol) {
+  return std::fabs(a - b) <= tol * std::max(std::fabs(a), std::fabs(b));
 }
 
 struct Albedo {

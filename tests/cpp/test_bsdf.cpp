@@ -49,14 +49,6 @@ GGXConductorLobe perfect_mirror_metal(Float ax, Float ay) {
   return l;
 }
 
-std::string fmt(double v, int prec = 4) {
-  std::ostringstream o;
-  o << std::setprecision(prec) << v;
-  return o.str();
-}
-
-bool rel_close(double a, double b, double tol) { return std::fabs(a - b) <= tol * std::max(std::fabs(a), std::fabs(b)); }
-
 /// Chi-square test of lobe.sample(wo) against lobe.pdf(wo, ·), plus per-sample
 /// checks that sample().f == eval() and sample().pdf == pdf() (relative 1e-3).
 template <class L>

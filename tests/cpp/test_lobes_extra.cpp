@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "chi2.h"
+#include "lobe_test_util.h"
 #include "kauri/bsdf/lobe.h"
 
 namespace kauri {
@@ -20,34 +21,12 @@ namespace {
 
 using test::SphereChi2Config;
 
-Vec2 next_2d(PCG32& rng) {
-  Float a = rng.next_float();
-  return {a, rng.next_float()};
-}
-
-SampledWavelengths test_wavelengths() { return SampledWavelengths::sample_visible(0.3f); }
-
-Vec3 dir(Float cos_t, Float phi) {
-  Float s = safe_sqrt(1 - cos_t * cos_t);
-  return {s * std::cos(phi), s * std::sin(phi), cos_t};
-}
-
-SampledSpectrum spectrum4(Float a, Float b, Float c, Float d) {
-  SampledSpectrum s;
-  s[0] = a;
-  s[1] = b;
-  s[2] = c;
-  s[3] = d;
-  return s;
-}
-
-std::string fmt(double v, int prec = 4) {
-  std::ostringstream o;
-  o << std::setprecision(prec) << v;
-  return o.str();
-}
-
-bool rel_close(double a, double b, double tol) { return std::fabs(a - b) <= tol * std::max(std::fabs(a), std::fabs(b)); }
+using test::dir;
+using test::fmt;
+using test::next_2d;
+using test::rel_close;
+using test::spectrum4;
+using test::test_wavelengths;
 
 /// Chi-square test of lobe.sample(wo) against lobe.pdf(wo, ·), plus per-sample
 /// checks that sample().f == eval() and sample().pdf == pdf() (relative 1e-3).
