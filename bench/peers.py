@@ -8,12 +8,34 @@ import numpy as np
 import kauri
 
 
+def _kauri_material(sh):
+    """Lobes both renderers define alike; GGX α maps to kauri's roughness = √α."""
+    if "conductor" in sh:
+        c = sh["conductor"]
+        return kauri.Conductor(metal=c["metal"], roughness=c["alpha"] ** 0.5, compensate=False, name=sh["name"])
+    if "dielectric" in sh:
+        d = sh["dielectric"]
+        return kauri.RoughDielectric(ior=d["ior"], roughness=d["alpha"] ** 0.5, compensate=False, name=sh["name"])
+    return kauri.Lambert(albedo=sh["diffuse"], name=sh["name"])
+
+
+def _mitsuba_bsdf(sh):
+    if "conductor" in sh:
+        c = sh["conductor"]
+        return {"type": "roughconductor", "material": c["metal"], "distribution": "ggx", "alpha": c["alpha"]}
+    if "dielectric" in sh:
+        d = sh["dielectric"]
+        return {"type": "roughdielectric", "int_ior": d["ior"], "ext_ior": 1.0, "distribution": "ggx",
+                "alpha": d["alpha"]}
+    return {"type": "diffuse", "reflectance": {"type": "rgb", "value": list(sh["diffuse"])}}
+
+
 def to_kauri(desc) -> kauri.Scene:
     s = kauri.Scene(color_space=desc["color_space"])
     for sh in desc["shapes"]:
         if "sphere" in sh:
             (center, radius) = sh["sphere"]
-            s.add_sphere(center=center, radius=radius, material=kauri.Lambert(albedo=sh["diffuse"]), name=sh["name"])
+            s.add_sphere(center=center, radius=radius, material=_kauri_material(sh), name=sh["name"])
             continue
         P = np.array(sh["quad"], np.float32)
         I = np.array([[0, 1, 2, 3]])
@@ -23,9 +45,11 @@ def to_kauri(desc) -> kauri.Scene:
             s.add_mesh(P, I, emission=kauri.Emission(color=tuple(c / peak for c in e), intensity=peak),
                        name=sh["name"])
         else:
-            s.add_mesh(P, I, material=kauri.Lambert(albedo=sh["diffuse"], name=sh["name"]), name=sh["name"])
+            s.add_mesh(P, I, material=_kauri_material(sh), name=sh["name"])
     if "environment" in desc:
         s.add_environment(image=desc["environment"])
+    if "environment_color" in desc:
+        s.add_environment(color=desc["environment_color"])
     c = desc["camera"]
     s.set_camera(eye=c["eye"], target=c["target"], up=c["up"], fov=c["fov_x"], fov_axis="x")
     return s
@@ -57,18 +81,20 @@ def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65):
                              "rfilter": {"type": "gaussian", "stddev": 0.5}, "pixel_format": "rgb"}}}
     if "environment" in desc:
         d["sky"] = {"type": "envmap", "bitmap": mi.Bitmap(np.asarray(desc["environment"], np.float32))}
+    if "environment_color" in desc:
+        d["sky"] = {"type": "constant", "radiance": {"type": "rgb", "value": list(desc["environment_color"])}}
     for sh in desc["shapes"]:
         if "sphere" in sh:
             (center, radius) = sh["sphere"]
             d[sh["name"]] = {"type": "sphere", "center": list(map(float, center)), "radius": float(radius),
-                             "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": list(sh["diffuse"])}}}
+                             "bsdf": _mitsuba_bsdf(sh)}
             continue
         shape = {"type": "rectangle", "to_world": mi.ScalarTransform4f(_rectangle_to_world(sh["quad"]).tolist())}
         if "emission" in sh:
             shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": list(sh["emission"])}}
             shape["bsdf"] = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.0, 0.0, 0.0]}}
         else:
-            shape["bsdf"] = {"type": "diffuse", "reflectance": {"type": "rgb", "value": list(sh["diffuse"])}}
+            shape["bsdf"] = _mitsuba_bsdf(sh)
         d[sh["name"]] = shape
     return d
 

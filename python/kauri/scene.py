@@ -170,10 +170,11 @@ class RoughDielectric(Lobe):
     kind = "rough_dielectric"
 
     def __init__(self, ior: float = 1.5, roughness: float = 0.2, anisotropy: float = 0.0, abbe: float = 0.0,
-                 name: str = "", **extra):
+                 compensate: bool = True, name: str = "", **extra):
         obj = f"material '{name or self.kind}'"
-        _check_keys(obj, extra, ["ior", "roughness", "anisotropy", "abbe", "name"])
+        _check_keys(obj, extra, ["ior", "roughness", "anisotropy", "abbe", "compensate", "name"])
         super().__init__(name, ior=_number(obj, "ior", ior, 1.0 / 4, 4), abbe=_number(obj, "abbe", abbe, 0, 1000),
+                         compensate=bool(compensate),
                          roughness=_number(obj, "roughness", roughness, 0, 1),
                          anisotropy=_number(obj, "anisotropy", anisotropy, -1, 1))
 

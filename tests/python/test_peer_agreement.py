@@ -1,5 +1,6 @@
-"""Agreement with Mitsuba 3 (scalar_spectral) on the Cornell box: image means and coarse
-blocks must agree within noise, the noise estimated from independent renders of each."""
+"""Agreement with Mitsuba 3 (scalar_spectral) on the Cornell box, a glossy scene and an
+environment-map scene: image means and coarse blocks must agree within noise, the noise
+estimated from independent renders of each."""
 import os
 import sys
 
@@ -24,8 +25,12 @@ def block_means(img, n=4, border=2):
     return img.reshape(n, h // n, n, w // n, 3).mean(axis=(1, 3))
 
 
-def test_cornell_box_agrees_with_mitsuba_within_noise():
-    desc = cornell.describe()
+@pytest.mark.parametrize("scene", ["cornell", "glossy"])
+def test_scene_agrees_with_mitsuba_within_noise(scene):
+    # cornell: diffuse transport; glossy: single-scattering GGX gold (measured IOR) and
+    # rough glass against Mitsuba's roughconductor / roughdielectric.
+    from scenes import glossy
+    desc = {"cornell": cornell, "glossy": glossy}[scene].describe()
     res, spp, runs = (32, 32), 64, 10
     k = np.stack([block_means(peers.render_kauri(desc, spp, res, seed=s)) for s in range(runs)])
     m = np.stack([block_means(peers.render_mitsuba(desc, "scalar_spectral", spp, res, seed=s)) for s in range(runs)])

@@ -28,7 +28,7 @@ struct LobeParams {
   Float alpha_x = 0, alpha_y = 0;  // microfacet roughness (sheen: roughness in alpha_x)
   CauchyIOR ior;    // dielectrics
   MicrofacetType microfacet = MicrofacetType::GGX;
-  bool compensate = true;   // conductor multiple-scattering compensation
+  bool compensate = true;   // conductor / rough dielectric multiple-scattering compensation
   bool artist = false;      // conductor: a, b are reflectivity and edge tint
   bool emission = false;    // an EDF (emission node): a is its radiance; `type` is unused
   bool two_sided = false;   // EDF emits from both sides
@@ -57,7 +57,7 @@ struct LobeParams {
       case LobeType::RoughDielectric: {
         SampledSpectrum eta;
         for (int i = 0; i < kSpectrumSamples; ++i) eta[i] = ior(lambda.lambda[i]);
-        return Lobe(RoughDielectricLobe::make(eta, alpha_x, alpha_y));
+        return Lobe(RoughDielectricLobe::make(eta, alpha_x, alpha_y, compensate));
       }
       case LobeType::ThinDielectric: {
         SampledSpectrum eta;
@@ -114,7 +114,8 @@ KAURI_HOST_DEVICE inline void apply_accumulation(Lobe& l, const LayerAbove& abov
       break;
     case LobeType::RoughDielectric:
       if (has_above_ior) l.rough_dielectric = RoughDielectricLobe::make(
-          l.rough_dielectric.eta.safe_div(above.ior), l.rough_dielectric.mf.alpha_x, l.rough_dielectric.mf.alpha_y);
+          l.rough_dielectric.eta.safe_div(above.ior), l.rough_dielectric.mf.alpha_x, l.rough_dielectric.mf.alpha_y,
+          l.rough_dielectric.compensate);
       if (rough_acc && above.roughness > 0) {
         Float a_min = sqr(above.roughness);
         l.rough_dielectric.mf.alpha_x = fmax_(l.rough_dielectric.mf.alpha_x, a_min);

@@ -85,6 +85,7 @@ LobeDesc lobe_from_dict(const nb::dict& d) {
     if (type == "rough_dielectric") {
       l.roughness = nb::cast<float>(d["roughness"]);
       l.anisotropy = nb::cast<float>(d["anisotropy"]);
+      l.compensate = nb::cast<bool>(d["compensate"]);
     }
   } else if (type == "diffuse_transmission") {
     l.type = LobeType::DiffuseTransmission;

@@ -71,7 +71,10 @@ LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs, std::deque<st
       break;
     case LobeType::SmoothDielectric:
     case LobeType::RoughDielectric:
-    case LobeType::ThinDielectric: p.ior = CauchyIOR::from_abbe(m.ior, m.abbe); break;
+    case LobeType::ThinDielectric:
+      p.ior = CauchyIOR::from_abbe(m.ior, m.abbe);
+      p.compensate = m.compensate;
+      break;
     case LobeType::GGXConductor: {
       p.microfacet = m.microfacet;
       p.compensate = m.compensate;
