@@ -25,12 +25,13 @@ def block_means(img, n=4, border=2):
     return img.reshape(n, h // n, n, w // n, 3).mean(axis=(1, 3))
 
 
-@pytest.mark.parametrize("scene", ["cornell", "glossy"])
+@pytest.mark.parametrize("scene", ["cornell", "glossy", "hangar"])
 def test_scene_agrees_with_mitsuba_within_noise(scene):
     # cornell: diffuse transport; glossy: single-scattering GGX gold (measured IOR) and
-    # rough glass against Mitsuba's roughconductor / roughdielectric.
-    from scenes import glossy
-    desc = {"cornell": cornell, "glossy": glossy}[scene].describe()
+    # rough glass against Mitsuba's roughconductor / roughdielectric; hangar: 144 small
+    # coloured area lights (light selection by power against Mitsuba's).
+    from scenes import glossy, hangar
+    desc = {"cornell": cornell, "glossy": glossy, "hangar": hangar}[scene].describe()
     res, spp, runs = (32, 32), 64, 10
     k = np.stack([block_means(peers.render_kauri(desc, spp, res, seed=s)) for s in range(runs)])
     m = np.stack([block_means(peers.render_mitsuba(desc, "scalar_spectral", spp, res, seed=s)) for s in range(runs)])
