@@ -28,6 +28,7 @@
 #include "kauri/bsdf/material.h"
 #include "kauri/geometry/shapes.h"
 #include "kauri/layer/layer_compiler.h"
+#include "kauri/scene/scene.h"
 #include "kauri/sampler/rng.h"
 #include "kauri/sampler/sampling.h"
 #include "kauri/spectral/color_space.h"
@@ -38,57 +39,15 @@ namespace {
 
 volatile double g_sink = 0;
 
-// ---- MaterialDesc → runnable stack (as tests/cpp/test_layers.cpp and scene_compile.cpp do)
-
-LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs) {
-  LobeParams p;
-  p.type = m.type;
-  Float alpha = GGXDistribution::roughness_to_alpha(m.roughness);
-  p.alpha_x = p.alpha_y = alpha;
-  switch (m.type) {
-    case LobeType::Lambert:
-    case LobeType::DiffuseTransmission: p.a = rgb_albedo(cs, m.albedo); break;
-    case LobeType::Sheen:
-      p.a = rgb_albedo(cs, m.albedo);
-      p.alpha_x = p.alpha_y = m.roughness;
-      break;
-    case LobeType::SmoothDielectric:
-    case LobeType::RoughDielectric:
-    case LobeType::ThinDielectric: p.ior = CauchyIOR::from_abbe(m.ior, m.abbe); break;
-    case LobeType::GGXConductor:
-      p.microfacet = m.microfacet;
-      p.compensate = m.compensate;
-      p.a = rgb_unbounded(cs, m.eta_rgb);
-      p.b = rgb_unbounded(cs, m.k_rgb);
-      break;
-    default: p.a = rgb_albedo(cs, m.albedo); break;  // lobe types this benchmark does not use
-  }
-  return p;
-}
+// ---- MaterialDesc → runnable stack (the scene's own lobe-parameter mapping)
 
 struct Stack {
   std::string name;
-  std::vector<LobeParams> lobes;
-  std::vector<ScalarInput> weights;
-  LayerLayout layout;
-  MaterialView view;
+  StandaloneMaterial material;
 };
 
-// Heap-allocated: the view points into the layout's vectors.
 Stack* make_stack(const std::string& name, const MaterialDesc& m) {
-  Stack* s = new Stack;
-  s->name = name;
-  CompiledMaterial c = compile_material(m);
-  s->layout = c.layout;
-  const RGBColorSpace& cs = color_space(ColorSpaceId::ACEScg);
-  for (const LobeDesc& l : c.lobes) s->lobes.push_back(lobe_params(l, cs));
-  for (const ScalarInputDesc& w : c.node_weights) s->weights.push_back(ScalarInput{-1, w.value});
-  s->view.front = {s->layout.nodes.data(), s->layout.front_children.data(), int(s->layout.nodes.size())};
-  s->view.back = {s->layout.nodes.data(), s->layout.back_children.data(), int(s->layout.nodes.size())};
-  s->view.n_lobes = int(s->lobes.size());
-  s->view.ior_accumulation = m.ior_accumulation;
-  s->view.roughness_accumulation = m.roughness_accumulation;
-  return s;
+  return new Stack{name, StandaloneMaterial(m, ColorSpaceId::ACEScg)};
 }
 
 LobeDesc lobe(const std::string& name, LobeType type, Float weight = 1) {
@@ -206,7 +165,7 @@ Inputs make_inputs(uint64_t seed) {
 BSDF build(const Stack& s, Vec3 wo, const SampledWavelengths& lambda) {
   BSDF b;
   Float attrs[kMaxVertexAttributes] = {0, 0, 0, 0};
-  build_bsdf(s.view, s.lobes.data(), s.weights.data(), attrs, Frame{}, Normal3{0, 0, 1}, wo, lambda, &b);
+  build_bsdf(s.material.view, s.material.lobes.data(), s.material.weights.data(), attrs, Frame{}, Normal3{0, 0, 1}, wo, lambda, &b);
   return b;
 }
 
@@ -238,7 +197,7 @@ struct Bench {
 
   Bench(const Stack* stack, const Inputs& in) : s(stack) {
     row.name = s->name;
-    row.lobes = s->view.n_lobes;
+    row.lobes = s->material.view.n_lobes;
     bsdfs.reserve(kBsdfs);
     for (int k = 0; k < kBsdfs; ++k) {
       bsdfs.push_back(build(*s, in.wo[k], in.lambda[k]));
@@ -254,7 +213,7 @@ struct Bench {
       const int k = int(i) & mask;
       BSDF b;
       Float attrs[kMaxVertexAttributes] = {0, 0, 0, 0};
-      build_bsdf(s->view, s->lobes.data(), s->weights.data(), attrs, Frame{}, Normal3{0, 0, 1}, in.wo[k],
+      build_bsdf(s->material.view, s->material.lobes.data(), s->material.weights.data(), attrs, Frame{}, Normal3{0, 0, 1}, in.wo[k],
                  in.lambda[k], &b);
       return double(b.select_prob[0]) + double(b.n_lobes);
     }));

@@ -42,6 +42,14 @@ def _number(obj: str, param: str, value, lo=-math.inf, hi=math.inf) -> float:
     return v
 
 
+def _unit_rgb(obj: str, param: str, value) -> tuple:
+    """An RGB triple with every component in [0, 1] (reflectances, transmittances)."""
+    c = _vec3(obj, param, value)
+    if min(c) < 0 or max(c) > 1:
+        raise SceneError(f"{obj}: parameter '{param}': components must lie in [0, 1], got {c}")
+    return c
+
+
 def _check_keys(obj: str, given: dict, allowed: Sequence[str]) -> None:
     unknown = sorted(set(given) - set(allowed))
     if unknown:
@@ -89,9 +97,7 @@ class Lambert(Lobe):
     def __init__(self, albedo=(0.8, 0.8, 0.8), name: str = "", **extra):
         _check_keys(f"material '{name or self.kind}'", extra, ["albedo", "name"])
         obj = f"material '{name or self.kind}'"
-        a = _vec3(obj, "albedo", albedo)
-        if min(a) < 0 or max(a) > 1:
-            raise SceneError(f"{obj}: parameter 'albedo': components must lie in [0, 1], got {a}")
+        a = _unit_rgb(obj, "albedo", albedo)
         super().__init__(name, albedo=a)
 
 
@@ -103,9 +109,7 @@ class OrenNayar(Lobe):
     def __init__(self, albedo=(0.8, 0.8, 0.8), roughness: float = 0.5, name: str = "", **extra):
         obj = f"material '{name or self.kind}'"
         _check_keys(obj, extra, ["albedo", "roughness", "name"])
-        a = _vec3(obj, "albedo", albedo)
-        if min(a) < 0 or max(a) > 1:
-            raise SceneError(f"{obj}: parameter 'albedo': components must lie in [0, 1], got {a}")
+        a = _unit_rgb(obj, "albedo", albedo)
         super().__init__(name, albedo=a, roughness=_number(obj, "roughness", roughness, 0, 1))
 
 
@@ -197,9 +201,7 @@ class DiffuseTransmission(Lobe):
     def __init__(self, transmittance=(0.5, 0.5, 0.5), name: str = "", **extra):
         obj = f"material '{name or self.kind}'"
         _check_keys(obj, extra, ["transmittance", "name"])
-        t = _vec3(obj, "transmittance", transmittance)
-        if min(t) < 0 or max(t) > 1:
-            raise SceneError(f"{obj}: parameter 'transmittance': components must lie in [0, 1], got {t}")
+        t = _unit_rgb(obj, "transmittance", transmittance)
         super().__init__(name, transmittance=t)
 
 
@@ -210,9 +212,7 @@ class Sheen(Lobe):
     def __init__(self, color=(1.0, 1.0, 1.0), roughness: float = 0.4, name: str = "", **extra):
         obj = f"material '{name or self.kind}'"
         _check_keys(obj, extra, ["color", "roughness", "name"])
-        c = _vec3(obj, "color", color)
-        if min(c) < 0 or max(c) > 1:
-            raise SceneError(f"{obj}: parameter 'color': components must lie in [0, 1], got {c}")
+        c = _unit_rgb(obj, "color", color)
         super().__init__(name, color=c, roughness=_number(obj, "roughness", roughness, 0, 1))
 
 

@@ -9,6 +9,7 @@
 #include "kauri/bsdf/material.h"
 #include "kauri/geometry/shapes.h"
 #include "kauri/layer/layer_compiler.h"
+#include "kauri/scene/scene.h"
 #include "kauri/spectral/color_space.h"
 
 namespace kauri {
@@ -245,39 +246,8 @@ TEST(LayerCompiler, IdenticalLayoutsShareAKey) {
 
 // ---- evaluation through build_bsdf with real lobes
 
-struct Stack {
-  std::vector<LobeParams> lobes;
-  std::vector<ScalarInput> weights;
-  LayerLayout layout;
-  MaterialView view;
-};
-
-Stack make_stack(const MaterialDesc& m) {
-  Stack s;
-  CompiledMaterial c = compile_material(m);
-  s.layout = c.layout;
-  const RGBColorSpace& cs = color_space(ColorSpaceId::LinearSRGB);
-  for (const LobeDesc& l : c.lobes) {
-    LobeParams p;
-    p.type = l.type;
-    if (l.type == LobeType::Lambert) p.a = rgb_albedo(cs, l.albedo);
-    if (l.type == LobeType::SmoothDielectric) p.ior = CauchyIOR::from_abbe(l.ior, 0);
-    if (l.type == LobeType::GGXConductor) {
-      p.a = rgb_unbounded(cs, l.eta_rgb);
-      p.b = rgb_unbounded(cs, l.k_rgb);
-      p.alpha_x = p.alpha_y = l.roughness * l.roughness;
-    }
-    s.lobes.push_back(p);
-  }
-  for (const ScalarInputDesc& w : c.node_weights) s.weights.push_back(ScalarInput{-1, w.value});
-  s.view.front = {s.layout.nodes.data(), s.layout.front_children.data(), int(s.layout.nodes.size())};
-  s.view.back = {s.layout.nodes.data(), s.layout.back_children.data(), int(s.layout.nodes.size())};
-  s.view.n_lobes = int(s.lobes.size());
-  s.view.ior_accumulation = m.ior_accumulation;
-  s.view.roughness_accumulation = m.roughness_accumulation;
-  return s;
-}
-
+/// A material compiled on its own (the same lobe-parameter mapping scenes use).
+using Stack = StandaloneMaterial;
 BSDF build(const Stack& s, Vec3 wo, const SampledWavelengths& lambda) {
   BSDF b;
   Float attrs[kMaxVertexAttributes] = {0, 0, 0, 0};
@@ -301,7 +271,7 @@ TEST(LayeredBSDF, ClearCoatWeightsBaseByFresnelTransmission) {
   m.lobes = {glass_desc("clear", 1.5f), lambert_desc("base")};
   m.lobes[1].albedo = {0.5f, 0.5f, 0.5f};
   m.layers = {layer("stack", LayerOp::Coat, {"clear", "base"})};
-  Stack s = make_stack(m);
+  Stack s(m, ColorSpaceId::LinearSRGB);
   SampledWavelengths lambda = SampledWavelengths::sample_visible(0.4f);
   for (Float c : {1.0f, 0.5f, 0.1f}) {
     Vec3 wo{std::sqrt(1 - c * c), 0, c};
@@ -321,7 +291,7 @@ TEST(LayeredBSDF, SingleSidedStackSeenFromBehind) {
   m.lobes = {lambert_desc("dirt"), glass_desc("glass")};
   m.layers = {layer("pane", LayerOp::Coat, {"dirt", "glass"})};
   m.symmetric = false;
-  Stack s = make_stack(m);
+  Stack s(m, ColorSpaceId::LinearSRGB);
   SampledWavelengths lambda = SampledWavelengths::sample_visible(0.4f);
   BSDF front = build(s, Vec3{0, 0, 1}, lambda);
   ASSERT_EQ(front.n_lobes, 1);  // the opaque dirt hides the glass
@@ -331,7 +301,7 @@ TEST(LayeredBSDF, SingleSidedStackSeenFromBehind) {
   EXPECT_EQ(back.lobes[0].type, LobeType::Lambert);
   EXPECT_NEAR(back.weight[0][0], 1 - fresnel_dielectric(-1, 1.5f), 1e-5f);
   m.symmetric = true;
-  Stack sym = make_stack(m);
+  Stack sym(m, ColorSpaceId::LinearSRGB);
   BSDF back_sym = build(sym, Vec3{0, 0, -1}, lambda);
   ASSERT_EQ(back_sym.n_lobes, 1);
   EXPECT_EQ(back_sym.lobes[0].type, LobeType::Lambert);
@@ -345,14 +315,14 @@ TEST(LayeredBSDF, IorAccumulationMakesIndexMatchedInterfacesVanish) {
   m.lobes = {glass_desc("water", 1.5f), conductor_desc("base", 0.2f, 1.5f, 0)};
   m.layers = {layer("stack", LayerOp::Coat, {"water", "base"})};
   m.ior_accumulation = true;
-  Stack s = make_stack(m);
+  Stack s(m, ColorSpaceId::LinearSRGB);
   SampledWavelengths lambda = SampledWavelengths::sample_visible(0.4f);
   BSDF b = build(s, Vec3{0, 0, 1}, lambda);
   ASSERT_EQ(b.n_lobes, 2);
   EXPECT_NEAR(b.lobes[1].conductor.eta[0], 1.0f, 1e-3f);
   EXPECT_NEAR(b.lobes[1].albedo_r(Vec3{0, 0, 1})[0], 0.0f, 1e-5f);
   m.ior_accumulation = false;
-  BSDF off = build(make_stack(m), Vec3{0, 0, 1}, lambda);
+  BSDF off = build(Stack(m, ColorSpaceId::LinearSRGB), Vec3{0, 0, 1}, lambda);
   EXPECT_GT(off.lobes[1].albedo_r(Vec3{0, 0, 1})[0], 0.03f);
 }
 
@@ -364,12 +334,12 @@ TEST(LayeredBSDF, RoughnessAccumulationWidensLobesBelowRoughLayers) {
   m.layers = {layer("stack", LayerOp::Coat, {"dust", "metal"})};
   m.roughness_accumulation = true;
   SampledWavelengths lambda = SampledWavelengths::sample_visible(0.4f);
-  BSDF b = build(make_stack(m), Vec3{0, 0, 1}, lambda);
+  BSDF b = build(Stack(m, ColorSpaceId::LinearSRGB), Vec3{0, 0, 1}, lambda);
   ASSERT_EQ(b.n_lobes, 2);
   EXPECT_NEAR(b.lobes[1].conductor.mf.alpha_x, 0.49f, 1e-5f);
   EXPECT_NEAR(b.lobes[1].roughness(), 0.7f, 1e-5f);
   m.roughness_accumulation = false;
-  BSDF off = build(make_stack(m), Vec3{0, 0, 1}, lambda);
+  BSDF off = build(Stack(m, ColorSpaceId::LinearSRGB), Vec3{0, 0, 1}, lambda);
   EXPECT_NEAR(off.lobes[1].conductor.mf.alpha_x, 0.01f, 1e-6f);
 }
 
@@ -414,7 +384,7 @@ TEST(LayeredBSDF, OperatorsKeepEnergyConservingStacksConserving) {
   }
   uint64_t seed = 900;
   for (const MaterialDesc& m : cases) {
-    Stack s = make_stack(m);
+    Stack s(m, ColorSpaceId::LinearSRGB);
     for (Float c : {1.0f, 0.4f, 0.1f}) {
       Vec3 wo{std::sqrt(1 - c * c), 0, c};
       BSDF b = build(s, wo, SampledWavelengths::sample_visible(0.4f));
@@ -443,7 +413,7 @@ TEST(LayeredBSDF, SamplingMatchesPdfForStacksOfTwoToFiveLobes) {
       m.layers.push_back(layer(name, op, {"metal" + std::to_string(k), below}));
       below = name;
     }
-    Stack s = make_stack(m);
+    Stack s(m, ColorSpaceId::LinearSRGB);
     Vec3 wo = normalize(Vec3{0.5f, 0.2f, 0.6f});
     SampledWavelengths lambda0 = SampledWavelengths::sample_visible(0.4f);
     BSDF b = build(s, wo, lambda0);

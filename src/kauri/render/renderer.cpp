@@ -66,7 +66,7 @@ class ProgressBar {
   void draw(uint64_t done, double t, bool final) {
     double frac = total_ ? std::min(1.0, double(done) / double(total_)) : 1;
     if (time_limit_ > 0) frac = std::max(frac, std::min(1.0, t / time_limit_));
-    double eta = frac > 0 ? t * (1 - frac) / frac : INFINITY;
+    double eta = frac > 0 ? t * (1 - frac) / frac : double(INFINITY);
     if (time_limit_ > 0) eta = std::min(eta, std::max(0.0, time_limit_ - t));
     const int width = 30;
     int filled = int(frac * width);
@@ -130,16 +130,16 @@ void render_pixel_samples(const TileContext& c, int x, int y, uint32_t s0, uint3
       if (c.nan_pixels.size() < 32) c.nan_pixels.push_back({x, y, s});
       continue;
     }
-    px.rgb[0] += rgb.x;
-    px.rgb[1] += rgb.y;
-    px.rgb[2] += rgb.z;
+    px.rgb[0] += double(rgb.x);
+    px.rgb[1] += double(rgb.y);
+    px.rgb[2] += double(rgb.z);
     if (out.hit) {
       px.alpha += 1;
-      px.normal[0] += out.normal.x;
-      px.normal[1] += out.normal.y;
-      px.normal[2] += out.normal.z;
+      px.normal[0] += double(out.normal.x);
+      px.normal[1] += double(out.normal.y);
+      px.normal[2] += double(out.normal.z);
       if (std::isfinite(out.depth)) {
-        px.depth += out.depth;
+        px.depth += double(out.depth);
         ++px.depth_count;
       }
     }
@@ -149,8 +149,8 @@ void render_pixel_samples(const TileContext& c, int x, int y, uint32_t s0, uint3
       Vec3 num = sampled_to_xyz(out.albedo * white, lambda), den = sampled_to_xyz(white, lambda);
       if (is_finite(num)) {
         for (int k = 0; k < 3; ++k) {
-          px.albedo_xyz[k] += num[k];
-          px.white_xyz[k] += den[k];
+          px.albedo_xyz[k] += double(num[k]);
+          px.white_xyz[k] += double(den[k]);
         }
       }
     }

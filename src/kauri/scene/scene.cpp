@@ -200,7 +200,7 @@ int Scene::add_mesh(int group, MeshDesc m) {
     double area = 0;
     for (size_t f = 0; f < m.indices.size(); f += 3) {
       auto P = [&](uint32_t i) { return Point3{m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]}; };
-      area += triangle_area(P(m.indices[f]), P(m.indices[f + 1]), P(m.indices[f + 2]));
+      area += double(triangle_area(P(m.indices[f]), P(m.indices[f + 1]), P(m.indices[f + 2])));
     }
     if (!(area > 0)) fail(obj, "emission", "an emitter must have non-zero area");
   }

@@ -85,6 +85,24 @@ struct CameraDesc {
 
 class CompiledScene;
 
+/// Render-time parameters of one lobe description in working space `cs`; tabulated
+/// emission spectra are resampled into `tables` (which must outlive the result).
+LobeParams lobe_params(const LobeDesc& lobe, const RGBColorSpace& cs, std::deque<std::vector<float>>* tables);
+
+/// One material compiled for evaluation without a scene (tests, benchmarks, tools):
+/// its lobes, constant node weights and layer programs. Not copyable: `view` points
+/// into the members.
+struct StandaloneMaterial {
+  StandaloneMaterial(const MaterialDesc& m, ColorSpaceId cs);
+  StandaloneMaterial(const StandaloneMaterial&) = delete;
+  StandaloneMaterial& operator=(const StandaloneMaterial&) = delete;
+  std::vector<LobeParams> lobes;
+  std::vector<ScalarInput> weights;
+  LayerLayout layout;
+  MaterialView view;
+  std::deque<std::vector<float>> tables;
+};
+
 class Scene {
  public:
   Scene();

@@ -25,6 +25,9 @@ Spectrum emission_of(const EmissionDesc& e, const RGBColorSpace& cs) {
   return s;
 }
 
+
+}  // namespace
+
 LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs, std::deque<std::vector<float>>* tables) {
   LobeParams p;
   p.type = m.type;
@@ -96,7 +99,25 @@ LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs, std::deque<st
   return p;
 }
 
-}  // namespace
+StandaloneMaterial::StandaloneMaterial(const MaterialDesc& m, ColorSpaceId cs_id) {
+  CompiledMaterial c = compile_material(m);
+  layout = c.layout;
+  const RGBColorSpace& cs = color_space(cs_id);
+  for (const LobeDesc& l : c.lobes) {
+    lobes.push_back(lobe_params(l, cs, &tables));
+    view.emissive = view.emissive || l.emission;
+  }
+  for (const ScalarInputDesc& w : c.node_weights) {
+    if (!w.attribute.empty())
+      throw std::invalid_argument("material '" + m.name + "': a standalone material has no vertex attributes");
+    weights.push_back(ScalarInput{-1, w.value});
+  }
+  view.front = {layout.nodes.data(), layout.front_children.data(), int(layout.nodes.size())};
+  view.back = {layout.nodes.data(), layout.back_children.data(), int(layout.nodes.size())};
+  view.n_lobes = int(lobes.size());
+  view.ior_accumulation = m.ior_accumulation;
+  view.roughness_accumulation = m.roughness_accumulation;
+}
 
 void CompiledScene::add_shape_lights(const Scene::Shape& s, const Transform* xf, const RGBColorSpace& cs) {
   Light base;
