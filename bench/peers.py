@@ -1,6 +1,7 @@
 """Export neutral scene descriptions (bench/scenes) to kauri and to Mitsuba 3 and render
 them side by side. Only features both renderers model the same way are used: Lambertian
-quads, one-sided diffuse area lights, a pinhole camera, a Gaussian pixel filter."""
+quads (optionally with a bilinear image texture), one-sided diffuse area lights, a pinhole
+camera, a Gaussian pixel filter."""
 from __future__ import annotations
 
 import numpy as np
@@ -16,6 +17,8 @@ def _kauri_material(sh):
     if "dielectric" in sh:
         d = sh["dielectric"]
         return kauri.RoughDielectric(ior=d["ior"], roughness=d["alpha"] ** 0.5, compensate=False, name=sh["name"])
+    if "texture" in sh:
+        return kauri.Lambert(albedo=kauri.ImageTexture(sh["texture"], name=sh["name"]), name=sh["name"])
     return kauri.Lambert(albedo=sh["diffuse"], name=sh["name"])
 
 
@@ -27,6 +30,13 @@ def _mitsuba_bsdf(sh):
         d = sh["dielectric"]
         return {"type": "roughdielectric", "int_ior": d["ior"], "ext_ior": 1.0, "distribution": "ggx",
                 "alpha": d["alpha"]}
+    if "texture" in sh:
+        # Mitsuba's rectangle puts image row 0 at v = 0; kauri (like OpenGL / USD) at v = 1.
+        import mitsuba as mi
+        return {"type": "diffuse", "reflectance": {
+            "type": "bitmap", "bitmap": mi.Bitmap(np.ascontiguousarray(np.flipud(sh["texture"]))),
+            "filter_type": "bilinear", "wrap_mode": "repeat", "raw": False,
+            "to_uv": mi.ScalarTransform4f().scale([sh.get("uv_scale", 1), sh.get("uv_scale", 1), 1])}}
     return {"type": "diffuse", "reflectance": {"type": "rgb", "value": list(sh["diffuse"])}}
 
 
@@ -45,7 +55,9 @@ def to_kauri(desc) -> kauri.Scene:
             s.add_mesh(P, I, emission=kauri.Emission(color=tuple(c / peak for c in e), intensity=peak),
                        name=sh["name"])
         else:
-            s.add_mesh(P, I, material=_kauri_material(sh), name=sh["name"])
+            k = sh.get("uv_scale", 1)
+            uv = np.array([(0, 0), (k, 0), (k, k), (0, k)], np.float32)
+            s.add_mesh(P, I, uvs=uv, material=_kauri_material(sh), name=sh["name"])
     if "environment" in desc:
         s.add_environment(image=desc["environment"])
     if "environment_color" in desc:

@@ -5,11 +5,11 @@ Build a scene with :class:`Scene`, materials (:class:`Lambert`, :class:`Dielectr
 """
 from . import _core
 from .render import RenderOutput, render
-from .scene import (Attribute, Conductor, Dielectric, DiffuseTransmission, Emission, EmissionLobe, Lambert, Lobe,
+from .scene import (Attribute, Conductor, Dielectric, DiffuseTransmission, Emission, EmissionLobe, ImageTexture, Lambert, Lobe,
                     Material, OrenNayar,
                     RoughDielectric, Scene, SceneError, Sheen, ThinDielectric)
 
 __version__ = _core.__version__
 __all__ = ["Scene", "Lambert", "Dielectric", "Conductor", "Emission", "Material", "Lobe", "Attribute", "SceneError", "render",
-           "RoughDielectric", "ThinDielectric", "DiffuseTransmission", "Sheen", "EmissionLobe", "OrenNayar",
+           "RoughDielectric", "ThinDielectric", "DiffuseTransmission", "Sheen", "EmissionLobe", "OrenNayar", "ImageTexture",
            "RenderOutput", "__version__"]

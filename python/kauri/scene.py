@@ -7,6 +7,7 @@ parameter, before anything reaches the renderer.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from typing import Optional, Sequence
 
@@ -48,6 +49,50 @@ def _unit_rgb(obj: str, param: str, value) -> tuple:
     if min(c) < 0 or max(c) > 1:
         raise SceneError(f"{obj}: parameter '{param}': components must lie in [0, 1], got {c}")
     return c
+
+
+class ImageTexture:
+    """An image texture for a lobe's colour: Lambert / OrenNayar ``albedo``,
+    DiffuseTransmission ``transmittance``, Sheen ``color``.
+
+    ``image``: an (height, width, 3) array of linear RGB in the scene's working space, or an
+    image file path read through OpenImageIO (8-bit PNG/JPEG are decoded from sRGB to
+    linear; EXR is taken as linear). Lookups are bilinear, (u, v) = (0, 0) is the
+    bottom-left corner of the image (OpenGL / USD convention); ``wrap`` is 'repeat' or
+    'clamp'. No mip-mapping yet."""
+
+    def __init__(self, image, wrap: str = "repeat", name: str = "texture"):
+        obj = f"texture '{name}'"
+        if isinstance(image, (str, os.PathLike)):
+            try:
+                image = _core.read_rgb_image(os.fspath(image))
+            except ValueError as e:
+                raise SceneError(f"{obj}: {e}") from None
+        a = np.asarray(image, dtype=np.float32)
+        if a.ndim != 3 or a.shape[2] not in (3, 4) or a.shape[0] == 0 or a.shape[1] == 0:
+            raise SceneError(f"{obj}: parameter 'image': expected an (height, width, 3) array, got shape {a.shape}")
+        a = np.ascontiguousarray(a[:, :, :3])
+        if not np.all(np.isfinite(a)) or a.min() < 0:
+            raise SceneError(f"{obj}: parameter 'image': texels must be finite and >= 0")
+        if wrap not in ("repeat", "clamp"):
+            raise SceneError(f"{obj}: parameter 'wrap': expected 'repeat' or 'clamp', got {wrap!r}")
+        self.name, self.image, self.wrap = name, a, wrap
+
+
+def _color_input(obj: str, param: str, value):
+    """A reflectance-like colour: an RGB triple in [0, 1] or an ImageTexture whose texels
+    lie in [0, 1] (a reflectance above 1 would create energy)."""
+    if isinstance(value, ImageTexture):
+        peak = float(value.image.max())
+        if peak > 1:
+            raise SceneError(f"{obj}: parameter '{param}': texture '{value.name}' has texels up to {peak:.4g}; "
+                             "a reflectance texture must lie in [0, 1]")
+        return value
+    if isinstance(value, dict) and "texture" in value:  # material files: {"texture": path, "wrap": ...}
+        _check_keys(f"{obj}: parameter '{param}'", value, ["texture", "wrap"])
+        return _color_input(obj, param, ImageTexture(value["texture"], value.get("wrap", "repeat"),
+                                                     name=os.path.basename(str(value["texture"]))))
+    return _unit_rgb(obj, param, value)
 
 
 def _check_keys(obj: str, given: dict, allowed: Sequence[str]) -> None:
@@ -97,7 +142,7 @@ class Lambert(Lobe):
     def __init__(self, albedo=(0.8, 0.8, 0.8), name: str = "", **extra):
         _check_keys(f"material '{name or self.kind}'", extra, ["albedo", "name"])
         obj = f"material '{name or self.kind}'"
-        a = _unit_rgb(obj, "albedo", albedo)
+        a = _color_input(obj, "albedo", albedo)
         super().__init__(name, albedo=a)
 
 
@@ -109,7 +154,7 @@ class OrenNayar(Lobe):
     def __init__(self, albedo=(0.8, 0.8, 0.8), roughness: float = 0.5, name: str = "", **extra):
         obj = f"material '{name or self.kind}'"
         _check_keys(obj, extra, ["albedo", "roughness", "name"])
-        a = _unit_rgb(obj, "albedo", albedo)
+        a = _color_input(obj, "albedo", albedo)
         super().__init__(name, albedo=a, roughness=_number(obj, "roughness", roughness, 0, 1))
 
 
@@ -201,7 +246,7 @@ class DiffuseTransmission(Lobe):
     def __init__(self, transmittance=(0.5, 0.5, 0.5), name: str = "", **extra):
         obj = f"material '{name or self.kind}'"
         _check_keys(obj, extra, ["transmittance", "name"])
-        t = _unit_rgb(obj, "transmittance", transmittance)
+        t = _color_input(obj, "transmittance", transmittance)
         super().__init__(name, transmittance=t)
 
 
@@ -212,7 +257,7 @@ class Sheen(Lobe):
     def __init__(self, color=(1.0, 1.0, 1.0), roughness: float = 0.4, name: str = "", **extra):
         obj = f"material '{name or self.kind}'"
         _check_keys(obj, extra, ["color", "roughness", "name"])
-        c = _unit_rgb(obj, "color", color)
+        c = _color_input(obj, "color", color)
         super().__init__(name, color=c, roughness=_number(obj, "roughness", roughness, 0, 1))
 
 
@@ -333,6 +378,10 @@ class Material:
                 raise SceneError(f"{source}: material '{m.name}', node '{name}': unknown lobe type {kind!r}; "
                                  f"expected one of {', '.join(LOBE_TYPES)}")
             weight = _parse_weight(spec.pop("weight", 1.0))
+            base = os.path.dirname(source) if os.path.isfile(source) else ""
+            for key, value in spec.items():  # texture paths are relative to the material file
+                if isinstance(value, dict) and isinstance(value.get("texture"), str):
+                    spec[key] = {**value, "texture": os.path.join(base, value["texture"])}
             try:
                 lobe = LOBE_TYPES[kind](**spec)
             except SceneError as e:
@@ -409,6 +458,8 @@ class Scene:
         self.color_space = color_space
         self._core.set_color_space(color_space)
         self._groups: dict[str, int] = {}
+        self._textures: dict[int, int] = {}
+        self._texture_objs: list[ImageTexture] = []
         self.has_camera = False
 
     # -- materials
@@ -432,10 +483,23 @@ class Scene:
         raise SceneError(f"{obj}: parameter 'material': expected a kauri material or lobe "
                          f"(Material, Lambert, Dielectric, Conductor), got {type(material).__name__}")
 
+    def _texture_lobe(self, lobe: dict) -> dict:
+        """A lobe dict with ImageTexture colours replaced by scene texture ids."""
+        for key, value in lobe.items():
+            if isinstance(value, ImageTexture):
+                tid = self._textures.get(id(value))
+                if tid is None:
+                    tid = self._core.add_texture(value.name, value.image, value.wrap)
+                    self._textures[id(value)] = tid
+                    self._texture_objs.append(value)  # keep alive so id() stays unique
+                return {**lobe, key: (0.0, 0.0, 0.0), "texture": tid}
+        return lobe
+
     def _register(self, m: Material) -> int:
         import warnings
         before = len(self._core.warnings())
-        mid = self._core.add_material(m.name, m.lobes, m.layers, m.root, m.symmetric, m.ior_accumulation,
+        lobes = [self._texture_lobe(lobe) for lobe in m.lobes]
+        mid = self._core.add_material(m.name, lobes, m.layers, m.root, m.symmetric, m.ior_accumulation,
                                       m.roughness_accumulation)
         for w in self._core.warnings()[before:]:
             warnings.warn(w, stacklevel=3)

@@ -8,6 +8,7 @@
 #include "kauri/bsdf/bsdf.h"
 #include "kauri/layer/layer_program.h"
 #include "kauri/spectral/spectrum.h"
+#include "kauri/texture/image_texture.h"
 
 namespace kauri {
 
@@ -21,9 +22,20 @@ struct ScalarInput {
   }
 };
 
+/// What a material reads at a shading point besides directions: interpolated vertex
+/// attributes, texture coordinates and the scene's textures.
+struct ShadingInputs {
+  const Float* attrs = nullptr;
+  Vec2 uv;
+  const ImageTexture* textures = nullptr;
+  KAURI_HOST_DEVICE ShadingInputs(const Float* a, Vec2 uv_ = {}, const ImageTexture* t = nullptr)
+      : attrs(a), uv(uv_), textures(t) {}
+};
+
 struct LobeParams {
   LobeType type = LobeType::Lambert;
   Spectrum a;       // Lambert albedo, transmission τ, sheen colour; conductor: η (or reflectivity)
+  int16_t a_texture = -1;  // ≥ 0: `a` is this image texture's reflectance at the hit's uv
   Spectrum b;       // conductor: κ (or edge tint)
   Float alpha_x = 0, alpha_y = 0;  // microfacet roughness (sheen: roughness in alpha_x)
   CauchyIOR ior;    // dielectrics
@@ -152,10 +164,10 @@ KAURI_HOST_DEVICE inline SampledSpectrum edf_radiance(const LobeParams& p, Vec3 
 
 /// Evaluates material `m` at a point for the outgoing direction `wo_world`: fills
 /// `bsdf` (if given) with the weighted scattering lobes and adds the weighted
-/// emission towards `wo_world` to `*emitted` (if given). `attrs` are the
-/// interpolated per-vertex attributes.
+/// emission towards `wo_world` to `*emitted` (if given). `sp` holds the interpolated
+/// per-vertex attributes, the uv and the textures.
 KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const LobeParams* lobe_params,
-                                                const ScalarInput* node_weights, const Float* attrs,
+                                                const ScalarInput* node_weights, const ShadingInputs& sp,
                                                 const Frame& frame, Normal3 ng, Vec3 wo_world,
                                                 const SampledWavelengths& lambda, BSDF* bsdf,
                                                 SampledSpectrum* emitted) {
@@ -167,8 +179,16 @@ KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const Lob
   const int n = m.n_lobes < kMaxLayerNodes ? m.n_lobes : kMaxLayerNodes;
   const LobeParams* params = lobe_params + m.first_lobe;
   Lobe lobes[kMaxLayerNodes];
-  for (int i = 0; i < n; ++i)
-    if (!params[i].emission) lobes[i] = params[i].instantiate(lambda);
+  for (int i = 0; i < n; ++i) {
+    if (params[i].emission) continue;
+    if (params[i].a_texture >= 0) {
+      LobeParams p = params[i];
+      p.a = sp.textures[p.a_texture].albedo(sp.uv);
+      lobes[i] = p.instantiate(lambda);
+    } else {
+      lobes[i] = params[i].instantiate(lambda);
+    }
+  }
 
   // Single-sided stacks: arriving from behind the surface runs the inverse program.
   const LayerProgram& prog = dot(wo_world, ng) < 0 ? m.back : m.front;
@@ -188,7 +208,7 @@ KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const Lob
 
   Vec3 wo = frame.to_local(wo_world);
   LayerInputs in;
-  for (int i = 0; i < prog.n_nodes; ++i) in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(attrs), 0, 1);
+  for (int i = 0; i < prog.n_nodes; ++i) in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(sp.attrs), 0, 1);
   // An EDF stops no light (a_t = 1): a layer under it is fully lit, one above it dims it.
   for (int i = 0; i < n; ++i)
     in.lobe_stopped[i] = params[i].emission ? SampledSpectrum(0) : SampledSpectrum(1) - lobes[i].albedo_t(wo);
@@ -206,9 +226,9 @@ KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const Lob
 }
 
 KAURI_HOST_DEVICE inline void build_bsdf(const MaterialView& m, const LobeParams* lobe_params,
-                                         const ScalarInput* node_weights, const Float* attrs, const Frame& frame,
+                                         const ScalarInput* node_weights, const ShadingInputs& sp, const Frame& frame,
                                          Normal3 ng, Vec3 wo_world, const SampledWavelengths& lambda, BSDF* bsdf) {
-  evaluate_material(m, lobe_params, node_weights, attrs, frame, ng, wo_world, lambda, bsdf, nullptr);
+  evaluate_material(m, lobe_params, node_weights, sp, frame, ng, wo_world, lambda, bsdf, nullptr);
 }
 
 }  // namespace kauri

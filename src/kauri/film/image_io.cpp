@@ -118,9 +118,17 @@ void read_rgb_image(const std::string& path, std::vector<float>* rgb, int* width
   std::vector<float> all(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
     throw std::invalid_argument(path + ": cannot read pixels: " + in->geterror());
+  // 8-bit PNG / JPEG files store sRGB-encoded values: decode them to linear
+  // (IEC 61966-2-1), as every texture and environment lookup expects linear RGB.
+  std::string encoding = spec.get_string_attribute("oiio:ColorSpace");
+  bool srgb = encoding == "sRGB" || encoding == "srgb_rec709_scene" || encoding == "srgb";
+  auto decode = [srgb](float v) {
+    if (!srgb) return v;
+    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+  };
   rgb->resize(size_t(spec.width) * size_t(spec.height) * 3);
   for (size_t i = 0; i < size_t(spec.width) * size_t(spec.height); ++i)
-    for (int k = 0; k < 3; ++k) (*rgb)[3 * i + size_t(k)] = all[i * size_t(spec.nchannels) + size_t(k)];
+    for (int k = 0; k < 3; ++k) (*rgb)[3 * i + size_t(k)] = decode(all[i * size_t(spec.nchannels) + size_t(k)]);
 }
 
 }  // namespace kauri

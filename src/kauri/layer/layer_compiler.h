@@ -22,6 +22,7 @@ struct LobeDesc {
   std::string name;
   LobeType type = LobeType::Lambert;
   Vec3 albedo{0.8f, 0.8f, 0.8f};   // Lambert albedo; diffuse-transmission τ; sheen colour
+  int albedo_texture = -1;         // ≥ 0: that colour comes from this scene texture instead
   Float ior = 1.5f, abbe = 0;      // dielectric
   std::string metal;               // conductor: measured IOR by name, or
   Vec3 eta_rgb{0, 0, 0}, k_rgb{0, 0, 0};  // conductor: RGB η, κ (used when metal is empty)

@@ -115,6 +115,7 @@ LobeDesc lobe_from_dict(const nb::dict& d) {
   } else {
     throw std::invalid_argument("lobe '" + l.name + "': unknown lobe type '" + type + "'");
   }
+  if (d.contains("texture")) l.albedo_texture = nb::cast<int>(d["texture"]);
   l.weight = weight_from_dict(d);
   return l;
 }
@@ -142,6 +143,19 @@ NB_MODULE(_core, m) {
   nb::class_<Scene>(m, "Scene")
       .def(nb::init<>())
       .def("set_color_space", [](Scene& s, const std::string& n) { s.set_color_space(parse_cs(n)); })
+      .def("add_texture", [](Scene& s, const std::string& name, const FloatArray& img, const std::string& wrap) {
+        if (img.ndim() != 3 || img.shape(2) != 3)
+          throw std::invalid_argument("texture '" + name + "': parameter 'image': expected an (height, width, 3) array");
+        TextureDesc t;
+        t.name = name;
+        t.height = int(img.shape(0));
+        t.width = int(img.shape(1));
+        t.texels = std::make_shared<const std::vector<float>>(img.data(), img.data() + img.size());
+        if (wrap == "clamp") t.wrap = TextureWrap::Clamp;
+        else if (wrap != "repeat")
+          throw std::invalid_argument("texture '" + name + "': parameter 'wrap': expected 'repeat' or 'clamp', got '" + wrap + "'");
+        return s.add_texture(std::move(t));
+      }, "name"_a, "image"_a, "wrap"_a)
       .def("add_material", [](Scene& s, const std::string& name, nb::list lobes, nb::list layers,
                               const std::string& root, bool symmetric, bool ior_acc, bool rough_acc) {
         MaterialDesc m;

@@ -1,5 +1,6 @@
 #include "kauri/scene/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -122,12 +123,42 @@ void check_lobe(const std::string& obj, const LobeDesc& m) {
 }
 }  // namespace
 
+int Scene::add_texture(TextureDesc t) {
+  std::string obj = quoted("texture", t.name);
+  if (t.width <= 0 || t.height <= 0) fail(obj, "image", "must have at least one texel");
+  if (!t.texels || t.texels->size() != size_t(t.width) * size_t(t.height) * 3)
+    fail(obj, "image", "must hold width × height × 3 values");
+  t.max_value = 0;
+  for (float v : *t.texels) {
+    if (!std::isfinite(v) || v < 0) fail(obj, "image", "texels must be finite and >= 0");
+    t.max_value = std::max(t.max_value, v);
+  }
+  textures_.push_back(std::move(t));
+  return int(textures_.size()) - 1;
+}
+
+void Scene::check_texture_use(const std::string& obj, const LobeDesc& l) const {
+  if (l.albedo_texture < 0) return;
+  const char* param = l.type == LobeType::Sheen ? "color"
+                      : l.type == LobeType::DiffuseTransmission ? "transmittance" : "albedo";
+  if (l.emission || !(l.type == LobeType::Lambert || l.type == LobeType::OrenNayar ||
+                      l.type == LobeType::DiffuseTransmission || l.type == LobeType::Sheen))
+    fail(obj, "texture", "only lambert, oren_nayar, diffuse_transmission and sheen colours can be textured");
+  if (l.albedo_texture >= int(textures_.size()))
+    fail(obj, param, "refers to texture " + std::to_string(l.albedo_texture) + ", which does not exist");
+  const TextureDesc& t = textures_[size_t(l.albedo_texture)];
+  if (t.max_value > 1)
+    fail(obj, param, "texture '" + t.name + "' has texels up to " + std::to_string(t.max_value) +
+                         "; a reflectance texture must lie in [0, 1]");
+}
+
 int Scene::add_material(const MaterialDesc& m) {
   for (const LobeDesc& l : m.lobes) {
     // Single-lobe materials keep the short form "material 'x'" in messages.
     std::string obj = m.lobes.size() == 1 && m.layers.empty() ? quoted("material", m.name)
                                                                : "material '" + m.name + "', node '" + l.name + "'";
     check_lobe(obj, l);
+    check_texture_use(obj, l);
   }
   CompiledMaterial c = compile_material(m);  // validates the graph
   for (const std::string& w : c.warnings) warnings_.push_back(w);

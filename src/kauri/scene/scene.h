@@ -41,6 +41,15 @@ struct MeshDesc {
   EmissionDesc emission;
 };
 
+/// An image texture: linear RGB texels in the working space, row 0 = top of the image.
+struct TextureDesc {
+  std::string name;
+  int width = 0, height = 0;
+  std::shared_ptr<const std::vector<float>> texels;  // shared with compiled scenes
+  TextureWrap wrap = TextureWrap::Repeat;
+  Float max_value = 0;  // largest component (an albedo texture must not exceed 1)
+};
+
 struct SphereDesc {
   std::string name;
   Point3 center;
@@ -109,6 +118,7 @@ class Scene {
   void set_color_space(ColorSpaceId id) { color_space_ = id; }
   ColorSpaceId color_space_id() const { return color_space_; }
 
+  int add_texture(TextureDesc t);  // returns its id, which LobeDesc::albedo_texture refers to
   int add_material(const MaterialDesc& m);
   int add_group(const std::string& name);  // a prototype for instancing; returns its id (≥ 1)
   int add_instance(const std::string& name, int group, const double xf[3][4]);
@@ -147,9 +157,11 @@ class Scene {
   };
   void check_group(int group, const std::string& what) const;
   void check_material(int material, const std::string& what) const;
+  void check_texture_use(const std::string& obj, const LobeDesc& l) const;
 
   friend class CompiledScene;
   ColorSpaceId color_space_ = ColorSpaceId::ACEScg;
+  std::vector<TextureDesc> textures_;
   std::vector<MaterialDesc> materials_;
   std::vector<CompiledMaterial> compiled_materials_;
   std::vector<std::string> warnings_;
@@ -185,6 +197,8 @@ class CompiledScene {
   std::vector<MaterialView> materials_;
   std::vector<LobeParams> lobes_;
   std::vector<ScalarInput> node_weights_;
+  std::vector<ImageTexture> textures_;
+  std::vector<std::shared_ptr<const std::vector<float>>> texture_data_;  // keeps texels alive
   std::vector<std::unique_ptr<LayerLayout>> layouts_;  // unique layouts, shared by materials
   std::deque<std::vector<float>> attribute_arrays_;  // deque: element addresses stay put
   std::deque<std::vector<float>> emission_tables_;   // tabulated EDF spectra (1 nm)

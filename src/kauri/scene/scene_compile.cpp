@@ -64,6 +64,7 @@ LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs, std::deque<st
   Float aspect = std::sqrt(1 - 0.9f * std::fabs(m.anisotropy));
   p.alpha_x = m.anisotropy >= 0 ? alpha / aspect : alpha * aspect;
   p.alpha_y = m.anisotropy >= 0 ? alpha * aspect : alpha / aspect;
+  p.a_texture = int16_t(m.albedo_texture);
   switch (m.type) {
     case LobeType::Lambert:
     case LobeType::DiffuseTransmission: p.a = rgb_albedo(cs, m.albedo); break;
@@ -104,6 +105,8 @@ StandaloneMaterial::StandaloneMaterial(const MaterialDesc& m, ColorSpaceId cs_id
   layout = c.layout;
   const RGBColorSpace& cs = color_space(cs_id);
   for (const LobeDesc& l : c.lobes) {
+    if (l.albedo_texture >= 0)
+      throw std::invalid_argument("material '" + m.name + "': a standalone material has no textures");
     lobes.push_back(lobe_params(l, cs, &tables));
     view.emissive = view.emissive || l.emission;
   }
@@ -447,6 +450,12 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   v.materials = c.materials_.data();
   v.lobes = c.lobes_.data();
   v.node_weights = c.node_weights_.data();
+  for (const TextureDesc& t : textures_) {
+    c.texture_data_.push_back(t.texels);
+    c.textures_.push_back(ImageTexture{t.texels->data(), t.width, t.height, t.wrap, cs.table});
+    c.bytes_ += t.texels->size() * sizeof(float);
+  }
+  v.textures = c.textures_.data();
   v.lights = c.lights_.data();
   v.n_lights = c.light_distribution_.integral() > 0 ? int(c.lights_.size()) : 0;
   v.light_distribution = c.light_distribution_.view();

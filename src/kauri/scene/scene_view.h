@@ -32,6 +32,7 @@ struct SceneView {
   const MaterialView* materials = nullptr;
   const LobeParams* lobes = nullptr;
   const ScalarInput* node_weights = nullptr;
+  const ImageTexture* textures = nullptr;
 
   const Light* lights = nullptr;
   int n_lights = 0;
