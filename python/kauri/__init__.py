@@ -4,7 +4,7 @@ Build a scene with :class:`Scene`, materials (:class:`Lambert`, :class:`Dielectr
 :class:`Conductor`), :class:`Emission`, lights and a camera; call :func:`render`.
 """
 from . import _core
-from .render import RenderOutput, render
+from .render import RenderOutput, ray_replay, render
 from .scene import (Attribute, Conductor, Dielectric, DiffuseTransmission, Emission, EmissionLobe, ImageTexture, Lambert, Lobe,
                     Material, OrenNayar,
                     RoughDielectric, Scene, SceneError, Sheen, ThinDielectric)
@@ -12,4 +12,4 @@ from .scene import (Attribute, Conductor, Dielectric, DiffuseTransmission, Emiss
 __version__ = _core.__version__
 __all__ = ["Scene", "Lambert", "Dielectric", "Conductor", "Emission", "Material", "Lobe", "Attribute", "SceneError", "render",
            "RoughDielectric", "ThinDielectric", "DiffuseTransmission", "Sheen", "EmissionLobe", "OrenNayar", "ImageTexture",
-           "RenderOutput", "__version__"]
+           "RenderOutput", "ray_replay", "__version__"]

@@ -32,6 +32,23 @@ class RenderOutput:
         self._result.write_png(str(path), float(exposure))
 
 
+def _check_render_args(what: str, scene, resolution, spp, seed, threads) -> tuple:
+    if not isinstance(scene, Scene):
+        raise SceneError(f"{what}: parameter 'scene': expected kauri.Scene, got {type(scene).__name__}")
+    if not scene.has_camera:
+        raise SceneError(f"{what}: the scene has no camera; call scene.set_camera()")
+    try:
+        w, h = (int(v) for v in resolution)
+    except (TypeError, ValueError):
+        raise SceneError(f"{what}: parameter 'resolution': expected (width, height), got {resolution!r}") from None
+    for name, v in (("spp", spp), ("seed", seed), ("threads", threads)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+            raise SceneError(f"{what}: parameter '{name}': expected an integer, got {type(v).__name__}")
+    if seed < 0:
+        raise SceneError(f"{what}: parameter 'seed': must be >= 0")
+    return w, h
+
+
 def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, threads: int = 0,
            time_limit: float = 0.0, sampler: str = "sobol", max_depth: int = 16, max_diffuse: int = 6,
            max_glossy: int = 8, max_transmission: int = 12, clamp: float = 0.0, filter: str = "gaussian",
@@ -44,20 +61,32 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
     if extra:
         raise SceneError(f"render: unknown parameter(s) {', '.join(map(repr, sorted(extra)))}; "
                          f"allowed: {', '.join(_RENDER_KEYS)}")
-    if not isinstance(scene, Scene):
-        raise SceneError(f"render: parameter 'scene': expected kauri.Scene, got {type(scene).__name__}")
-    if not scene.has_camera:
-        raise SceneError("render: the scene has no camera; call scene.set_camera()")
-    try:
-        w, h = (int(v) for v in resolution)
-    except (TypeError, ValueError):
-        raise SceneError(f"render: parameter 'resolution': expected (width, height), got {resolution!r}") from None
-    for name, v in (("spp", spp), ("seed", seed), ("threads", threads)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
-            raise SceneError(f"render: parameter '{name}': expected an integer, got {type(v).__name__}")
-    if seed < 0:
-        raise SceneError("render: parameter 'seed': must be >= 0")
+    w, h = _check_render_args("render", scene, resolution, spp, seed, threads)
     r = _core.render(scene._core, w, h, int(spp), int(seed), int(threads), float(time_limit), sampler,
                      int(max_depth), int(max_diffuse), int(max_glossy), int(max_transmission), float(clamp),
                      filter, float(filter_radius), float(filter_sigma), bool(progress))
     return RenderOutput(r.rgba, r.albedo, r.normal, r.depth, r.stats, r.color_space, r)
+
+
+def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0, threads: int = 0,
+               sampler: str = "sobol", max_depth: int = 16, max_diffuse: int = 6, max_glossy: int = 8,
+               max_transmission: int = 12, filter: str = "gaussian", filter_radius: float = 2.0,
+               filter_sigma: float = 0.5, max_rays: int = 50_000_000, repeats: int = 3) -> dict:
+    """Closeness to the limit: renders ``scene`` as render() would (multi-threaded, timed), then
+    traces the same paths again on one thread recording every ray query, and replays the
+    recorded rays through Embree alone (rtcIntersect1 / rtcOccluded1, ``threads`` threads,
+    best of ``repeats``). Returns the counts and times, plus ``render_rays_per_second``,
+    ``embree_rays_per_second`` and their ratio ``fraction_of_embree`` (1 = the path tracer
+    costs nothing beyond traversal). ``hits_match`` checks the replay found the same hits."""
+    w, h = _check_render_args("ray_replay", scene, resolution, spp, seed, threads)
+    d = dict(_core.ray_replay(scene._core, w, h, int(spp), int(seed), int(threads), sampler, int(max_depth),
+                              int(max_diffuse), int(max_glossy), int(max_transmission), filter, float(filter_radius),
+                              float(filter_sigma), int(max_rays), int(repeats)))
+    d["render_rays_per_second"] = d["render_rays"] / d["render_seconds"] if d["render_seconds"] > 0 else 0.0
+    t = d["replay_closest_seconds"] + d["replay_shadow_seconds"]
+    d["embree_rays_per_second"] = (d["closest_rays"] + d["shadow_rays"]) / t if t > 0 else 0.0
+    d["fraction_of_embree"] = (d["render_rays_per_second"] / d["embree_rays_per_second"]
+                               if d["embree_rays_per_second"] > 0 else 0.0)
+    d["hits_match"] = (d["recorded_closest_hits"] == d["replay_closest_hits"] and
+                       d["recorded_shadow_hits"] == d["replay_shadow_hits"])
+    return d

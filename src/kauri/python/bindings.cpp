@@ -10,6 +10,7 @@
 #include "kauri/film/image_io.h"
 #include "kauri/layer/layer_compiler.h"
 #include "kauri/render/renderer.h"
+#include "kauri/render/ray_replay.h"
 #include "kauri/scene/scene.h"
 
 namespace nb = nanobind;
@@ -131,6 +132,42 @@ struct PyRenderResult {
   ColorSpaceId cs;
   uint64_t seed;
 };
+
+RenderSettings render_settings(int width, int height, int spp, uint64_t seed, int threads, double time_limit,
+                               const std::string& sampler, int max_depth, int max_diffuse, int max_glossy,
+                               int max_transmission, float clamp, const std::string& filter, float filter_radius,
+                               float filter_sigma, bool progress) {
+  if (spp <= 0) throw std::invalid_argument("render: parameter 'spp': must be > 0");
+  if (threads < 0) throw std::invalid_argument("render: parameter 'threads': must be >= 0");
+  if (!(time_limit >= 0)) throw std::invalid_argument("render: parameter 'time_limit': must be >= 0");
+  if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
+    throw std::invalid_argument("render: parameter 'resolution': must be between 1 and 65536");
+  RenderSettings cfg;
+  cfg.width = width;
+  cfg.height = height;
+  cfg.spp = spp;
+  cfg.seed = seed;
+  cfg.threads = threads;
+  cfg.time_limit = time_limit;
+  if (sampler == "sobol") cfg.sampler = SamplerType::Sobol;
+  else if (sampler == "independent") cfg.sampler = SamplerType::Independent;
+  else throw std::invalid_argument("render: parameter 'sampler': expected 'sobol' or 'independent', got '" + sampler + "'");
+  cfg.integrator.max_depth = max_depth;
+  cfg.integrator.max_diffuse = max_diffuse;
+  cfg.integrator.max_glossy = max_glossy;
+  cfg.integrator.max_transmission = max_transmission;
+  if (!(clamp >= 0)) throw std::invalid_argument("render: parameter 'clamp': must be >= 0 (0 = off)");
+  cfg.integrator.clamp = clamp;
+  if (filter == "gaussian") cfg.filter.type = FilterType::Gaussian;
+  else if (filter == "box") cfg.filter.type = FilterType::Box;
+  else throw std::invalid_argument("render: parameter 'filter': expected 'gaussian' or 'box', got '" + filter + "'");
+  if (!(filter_radius > 0 && filter_radius <= 8)) throw std::invalid_argument("render: parameter 'filter_radius': must be in (0, 8]");
+  cfg.filter.radius = filter_radius;
+  if (!(filter_sigma > 0)) throw std::invalid_argument("render: parameter 'filter_sigma': must be > 0");
+  cfg.filter.sigma = filter_sigma;
+  cfg.progress = progress;
+  return cfg;
+}
 
 }  // namespace
 }  // namespace kauri
@@ -299,35 +336,9 @@ NB_MODULE(_core, m) {
   m.def("render", [](const Scene& scene, int width, int height, int spp, uint64_t seed, int threads, double time_limit,
                      const std::string& sampler, int max_depth, int max_diffuse, int max_glossy, int max_transmission,
                      float clamp, const std::string& filter, float filter_radius, float filter_sigma, bool progress) {
-    if (spp <= 0) throw std::invalid_argument("render: parameter 'spp': must be > 0");
-    if (threads < 0) throw std::invalid_argument("render: parameter 'threads': must be >= 0");
-    if (!(time_limit >= 0)) throw std::invalid_argument("render: parameter 'time_limit': must be >= 0");
-    if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
-      throw std::invalid_argument("render: parameter 'resolution': must be between 1 and 65536");
-    RenderSettings cfg;
-    cfg.width = width;
-    cfg.height = height;
-    cfg.spp = spp;
-    cfg.seed = seed;
-    cfg.threads = threads;
-    cfg.time_limit = time_limit;
-    if (sampler == "sobol") cfg.sampler = SamplerType::Sobol;
-    else if (sampler == "independent") cfg.sampler = SamplerType::Independent;
-    else throw std::invalid_argument("render: parameter 'sampler': expected 'sobol' or 'independent', got '" + sampler + "'");
-    cfg.integrator.max_depth = max_depth;
-    cfg.integrator.max_diffuse = max_diffuse;
-    cfg.integrator.max_glossy = max_glossy;
-    cfg.integrator.max_transmission = max_transmission;
-    if (!(clamp >= 0)) throw std::invalid_argument("render: parameter 'clamp': must be >= 0 (0 = off)");
-    cfg.integrator.clamp = clamp;
-    if (filter == "gaussian") cfg.filter.type = FilterType::Gaussian;
-    else if (filter == "box") cfg.filter.type = FilterType::Box;
-    else throw std::invalid_argument("render: parameter 'filter': expected 'gaussian' or 'box', got '" + filter + "'");
-    if (!(filter_radius > 0 && filter_radius <= 8)) throw std::invalid_argument("render: parameter 'filter_radius': must be in (0, 8]");
-    cfg.filter.radius = filter_radius;
-    if (!(filter_sigma > 0)) throw std::invalid_argument("render: parameter 'filter_sigma': must be > 0");
-    cfg.filter.sigma = filter_sigma;
-    cfg.progress = progress;
+    RenderSettings cfg = render_settings(width, height, spp, seed, threads, time_limit, sampler, max_depth, max_diffuse,
+                                         max_glossy, max_transmission, clamp, filter, filter_radius, filter_sigma,
+                                         progress);
     auto* out = new PyRenderResult{{}, scene.color_space_id(), seed};
     try {
       nb::gil_scoped_release release;
@@ -339,6 +350,37 @@ NB_MODULE(_core, m) {
     }
     return out;
   }, nb::rv_policy::take_ownership);
+
+  m.def("ray_replay", [](const Scene& scene, int width, int height, int spp, uint64_t seed, int threads,
+                         const std::string& sampler, int max_depth, int max_diffuse, int max_glossy,
+                         int max_transmission, const std::string& filter, float filter_radius, float filter_sigma,
+                         size_t max_rays, int repeats) {
+    RenderSettings cfg = render_settings(width, height, spp, seed, threads, 0, sampler, max_depth, max_diffuse,
+                                         max_glossy, max_transmission, 0, filter, filter_radius, filter_sigma, false);
+    RayLog log;
+    ReplayResult rep;
+    RenderStats stats;
+    {
+      nb::gil_scoped_release release;
+      auto compiled = scene.compile(width, height);
+      stats = render(*compiled, cfg).stats;  // the real render, multi-threaded, timed as usual
+      log = record_rays(*compiled, cfg, max_rays);
+      rep = replay_rays(compiled->accel(), log, threads, repeats);
+    }
+    nb::dict d;
+    d["render_rays"] = stats.rays;
+    d["render_seconds"] = stats.seconds;
+    d["closest_rays"] = log.closest.size();
+    d["shadow_rays"] = log.shadow.size();
+    d["recorded_closest_hits"] = log.closest_hits;
+    d["recorded_shadow_hits"] = log.shadow_hits;
+    d["replay_closest_hits"] = rep.closest_hits;
+    d["replay_shadow_hits"] = rep.shadow_hits;
+    d["replay_closest_seconds"] = rep.closest_seconds;
+    d["replay_shadow_seconds"] = rep.shadow_seconds;
+    d["complete"] = log.closest.size() + log.shadow.size() == stats.rays;
+    return d;
+  });
 
   m.def("read_rgb_image", [](const std::string& path) {
     std::vector<float> rgb;

@@ -1,4 +1,5 @@
 #include "kauri/render/renderer.h"
+#include "kauri/render/ray_replay.h"
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -103,9 +104,10 @@ Vec3 clamp_luminance(Vec3 rgb, Float y, Float clamp) {
   return rgb * (clamp / y);
 }
 
-void render_pixel_samples(const TileContext& c, int x, int y, uint32_t s0, uint32_t s1, uint64_t* rays) {
+template <class Accel>
+void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y, uint32_t s0, uint32_t s1,
+                          uint64_t* rays) {
   const SceneView& sv = c.scene.view();
-  const EmbreeAccel& accel = c.scene.accel();
   PixelAccum& px = c.film[size_t(y) * size_t(c.cfg.width) + size_t(x)];
   Sampler sampler;
   sampler.type = c.cfg.sampler;
@@ -236,7 +238,7 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& cfg) {
           int x0 = (t % tiles_x) * ts, y0 = (t / tiles_x) * ts;
           uint64_t tile_rays = 0;
           for (int y = y0; y < std::min(h, y0 + ts); ++y)
-            for (int x = x0; x < std::min(w, x0 + ts); ++x) render_pixel_samples(ctx, x, y, s0, s1, &tile_rays);
+            for (int x = x0; x < std::min(w, x0 + ts); ++x) render_pixel_samples(ctx, scene.accel(), x, y, s0, s1, &tile_rays);
           rays.fetch_add(tile_rays);
           progress.add(uint64_t(std::min(h, y0 + ts) - y0) * uint64_t(std::min(w, x0 + ts) - x0) * (s1 - s0));
         }
@@ -263,6 +265,44 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& cfg) {
   st.layer_layouts = scene.layout_count();
   st.peak_rss_bytes = peak_rss_bytes();
   return result;
+}
+
+/// Forwards ray queries to Embree and records them (single-threaded use only).
+struct RecordingAccel {
+  const EmbreeAccel& accel;
+  RayLog* log;
+  size_t max_rays;
+  bool full() const { return log->closest.size() + log->shadow.size() >= max_rays; }
+  bool intersect(const Ray& r, HitRecord* h) const {
+    bool hit = accel.intersect(r, h);
+    if (!full()) {
+      log->closest.push_back(r);
+      log->closest_hits += hit ? 1 : 0;
+    }
+    return hit;
+  }
+  bool occluded(const Ray& r) const {
+    bool hit = accel.occluded(r);
+    if (!full()) {
+      log->shadow.push_back(r);
+      log->shadow_hits += hit ? 1 : 0;
+    }
+    return hit;
+  }
+};
+
+RayLog record_rays(const CompiledScene& scene, const RenderSettings& cfg, size_t max_rays) {
+  std::vector<PixelAccum> film(size_t(cfg.width) * size_t(cfg.height));
+  std::atomic<uint64_t> rays{0}, nan_samples{0};
+  std::vector<NaNReport> nan_pixels;
+  std::mutex nan_mutex;
+  TileContext ctx{scene, cfg, film, rays, nan_samples, nan_pixels, nan_mutex};
+  RayLog log;
+  RecordingAccel rec{scene.accel(), &log, max_rays};
+  uint64_t n = 0;
+  for (int y = 0; y < cfg.height && !rec.full(); ++y)
+    for (int x = 0; x < cfg.width && !rec.full(); ++x) render_pixel_samples(ctx, rec, x, y, 0, uint32_t(cfg.spp), &n);
+  return log;
 }
 
 }  // namespace kauri
