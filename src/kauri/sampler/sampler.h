@@ -27,8 +27,7 @@ struct Sampler {
   KAURI_HOST_DEVICE Float get_1d() {
     if (type == SamplerType::Independent) return rng.next_float();
     // Consecutive 1D requests take the two coordinates of one stratified pair.
-    Vec2 p = owen_sobol_2d(index, dimension >> 1, pixel_seed);
-    Float v = (dimension & 1) ? p.y : p.x;
+    Float v = owen_sobol_1d(index, dimension >> 1, dimension & 1, pixel_seed);
     ++dimension;
     return v;
   }

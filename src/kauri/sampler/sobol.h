@@ -35,6 +35,36 @@ struct Dim1Tables {
   }
 };
 inline constexpr Dim1Tables kDim1{};
+
+constexpr uint32_t reverse_bits32_constexpr(uint32_t v) {
+  uint32_t r = 0;
+  for (int i = 0; i < 32; ++i) r |= ((v >> i) & 1u) << (31 - i);
+  return r;
+}
+
+/// Byte tables of M = R ∘ S1 ∘ R (R: bit reversal, S1: the dimension-1 generator
+/// matrix). M is linear over GF(2), so it maps the bit-reversed scrambled index straight
+/// to the bit-reversed Sobol' value the Owen scramble works on, saving two reversals.
+struct ReversedDim1Tables {
+  uint32_t t[4][256];
+  constexpr ReversedDim1Tables() : t{} {
+    Dim1Tables d;
+    for (int byte = 0; byte < 4; ++byte)
+      for (int x = 0; x < 256; ++x) {
+        // Bit b of the input (b = 8·byte + k) is bit 31 − b of the unreversed index.
+        uint32_t r = 0;
+        for (int k = 0; k < 8; ++k)
+          if (x & (1 << k)) {
+            uint32_t idx = 1u << (31 - (8 * byte + k));
+            uint32_t s1 = d.t[0][idx & 0xff] ^ d.t[1][(idx >> 8) & 0xff] ^ d.t[2][(idx >> 16) & 0xff] ^
+                          d.t[3][idx >> 24];
+            r ^= reverse_bits32_constexpr(s1);
+          }
+        t[byte][x] = r;
+      }
+  }
+};
+inline constexpr ReversedDim1Tables kDim1Reversed{};
 }  // namespace sobol_detail
 
 KAURI_HOST_DEVICE inline uint32_t reverse_bits32(uint32_t v) {
@@ -80,19 +110,44 @@ KAURI_HOST_DEVICE inline uint32_t hash_u32(uint32_t x) {
   return x;
 }
 
+/// Scramble seeds of dimension pair `pair`: index shuffle, x and y Owen scrambles.
+struct SobolPairSeeds {
+  uint32_t shuffle, x, y;
+  KAURI_HOST_DEVICE SobolPairSeeds(uint32_t pair, uint32_t pixel_seed)
+      : shuffle(hash_u32(pixel_seed ^ (pair * 0x9e3779b9u))),
+        x(hash_u32(pixel_seed ^ (pair * 0x85ebca6bu + 1u))),
+        y(hash_u32(pixel_seed ^ (pair * 0xc2b2ae35u + 2u))) {}
+};
+
 /// One 2D point of the padded Owen-scrambled Sobol' sequence: dimensions
-/// (2·pair, 2·pair + 1) form a scrambled (0,2)-sequence in [0,1)².
+/// (2·pair, 2·pair + 1) form a scrambled (0,2)-sequence in [0,1)². By definition
+///   shuffled = N(index, s0), x = N(S0(shuffled), s1), y = N(S1(shuffled), s2)
+/// with N(v, s) = R(LK(R(v), s)) and S0 = R. Writing a = R(shuffled) = LK(R(index), s0):
+///   x = R(LK(R(a), s1)),  y = R(LK(M(a), s2)),  M = R ∘ S1 ∘ R (byte tables),
+/// four bit reversals instead of seven, bit-identical to the definition.
 KAURI_HOST_DEVICE inline Vec2 owen_sobol_2d(uint32_t index, uint32_t pair, uint32_t pixel_seed) {
-  uint32_t shuffled = nested_uniform_scramble(index, hash_u32(pixel_seed ^ (pair * 0x9e3779b9u)));
-  uint32_t x = nested_uniform_scramble(sobol_u32(shuffled, 0), hash_u32(pixel_seed ^ (pair * 0x85ebca6bu + 1u)));
-  uint32_t y = nested_uniform_scramble(sobol_u32(shuffled, 1), hash_u32(pixel_seed ^ (pair * 0xc2b2ae35u + 2u)));
+  SobolPairSeeds s(pair, pixel_seed);
+  uint32_t a = laine_karras_permutation(reverse_bits32(index), s.shuffle);
+  const auto& m = sobol_detail::kDim1Reversed.t;
+  uint32_t ma = m[0][a & 0xff] ^ m[1][(a >> 8) & 0xff] ^ m[2][(a >> 16) & 0xff] ^ m[3][a >> 24];
+  uint32_t x = reverse_bits32(laine_karras_permutation(reverse_bits32(a), s.x));
+  uint32_t y = reverse_bits32(laine_karras_permutation(ma, s.y));
   return {u32_to_unit(x), u32_to_unit(y)};
+}
+
+/// Only coordinate `which` (0: x, 1: y) of owen_sobol_2d: what a 1D request needs.
+KAURI_HOST_DEVICE inline Float owen_sobol_1d(uint32_t index, uint32_t pair, uint32_t which, uint32_t pixel_seed) {
+  SobolPairSeeds s(pair, pixel_seed);
+  uint32_t a = laine_karras_permutation(reverse_bits32(index), s.shuffle);
+  if (which == 0) return u32_to_unit(reverse_bits32(laine_karras_permutation(reverse_bits32(a), s.x)));
+  const auto& m = sobol_detail::kDim1Reversed.t;
+  uint32_t ma = m[0][a & 0xff] ^ m[1][(a >> 8) & 0xff] ^ m[2][(a >> 16) & 0xff] ^ m[3][a >> 24];
+  return u32_to_unit(reverse_bits32(laine_karras_permutation(ma, s.y)));
 }
 
 /// One coordinate of the padded sequence; `dimension` counts 1D dimensions.
 KAURI_HOST_DEVICE inline Float owen_sobol_sample(uint32_t index, uint32_t dimension, uint32_t pixel_seed) {
-  Vec2 p = owen_sobol_2d(index, dimension >> 1, pixel_seed);
-  return (dimension & 1) ? p.y : p.x;
+  return owen_sobol_1d(index, dimension >> 1, dimension & 1, pixel_seed);
 }
 
 }  // namespace kauri
