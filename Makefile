@@ -2,7 +2,7 @@
 PYTHON ?= python3
 BUILD_DIR := $(shell $(PYTHON) -c "import sysconfig,sys; print('build/cp%d%d-cp%d%d-%s' % (sys.version_info[0], sys.version_info[1], sys.version_info[0], sys.version_info[1], sysconfig.get_platform().replace('-', '_').replace('.', '_')))")
 
-.PHONY: build demo test test-cpp test-python bench clean
+.PHONY: build demo test test-cpp test-python bench bench-quick clean
 
 build:
 	./scripts/bootstrap
@@ -14,9 +14,15 @@ test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j2
 	$(PYTHON) -m pytest -q tests/python
 
+# bench: the full peer suite (kauri vs Mitsuba 3; report in bench/results/) plus the
+# demo-scene and layered-material micro-benchmarks. bench-quick: the suite at low res / spp.
 bench: build
+	$(PYTHON) bench/suite.py
 	$(PYTHON) bench/bench_demo.py
 	$(PYTHON) bench/bench_layers.py
+
+bench-quick: build
+	$(PYTHON) bench/suite.py --quick
 
 clean:
 	rm -rf build demo.exr demo.png

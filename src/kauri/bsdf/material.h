@@ -207,14 +207,26 @@ KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const Lob
     if (!params[i].emission && lobes[i].type == LobeType::GGXConductor) lobes[i].conductor.cache_multiple_scattering();
 
   Vec3 wo = frame.to_local(wo_world);
-  LayerInputs in;
-  for (int i = 0; i < prog.n_nodes; ++i) in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(sp.attrs), 0, 1);
-  // An EDF stops no light (a_t = 1): a layer under it is fully lit, one above it dims it.
-  for (int i = 0; i < n; ++i)
-    in.lobe_stopped[i] = params[i].emission ? SampledSpectrum(0) : SampledSpectrum(1) - lobes[i].albedo_t(wo);
   SampledSpectrum w[kMaxLayerNodes];
   Float transmission[kMaxLayerNodes];
-  evaluate_layer_weights(prog, in, w, transmission);
+  if (prog.n_nodes == 1) {
+    // A single lobe: its weight is its own w_b (the common case; no program to run).
+    w[0] = SampledSpectrum(clamp(node_weights[m.first_weight].eval(sp.attrs), 0, 1));
+    transmission[0] = 1;
+  } else {
+    LayerInputs in;
+    bool has_coat = false;
+    for (int i = 0; i < prog.n_nodes; ++i) {
+      in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(sp.attrs), 0, 1);
+      has_coat = has_coat || prog.nodes[i].op == LayerOp::Coat;
+    }
+    // Only coat reads the stopped albedos a_b = 1 − a_t (eq. 5); an EDF stops no light
+    // (a_t = 1): a layer under it is fully lit, one above it dims it.
+    if (has_coat)
+      for (int i = 0; i < n; ++i)
+        in.lobe_stopped[i] = params[i].emission ? SampledSpectrum(0) : SampledSpectrum(1) - lobes[i].albedo_t(wo);
+    evaluate_layer_weights(prog, in, w, transmission);
+  }
   for (int i = 0; i < n; ++i) {
     if (params[i].emission) {
       if (emitted) *emitted += w[i] * edf_radiance(params[i], wo, lambda);

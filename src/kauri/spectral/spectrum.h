@@ -122,8 +122,20 @@ struct Spectrum {
 
   KAURI_HOST_DEVICE SampledSpectrum sample(const SampledWavelengths& w) const {
     SampledSpectrum s;
-    for (int i = 0; i < kSpectrumSamples; ++i) s[i] = (*this)(w.lambda[i]);
-    return s;
+    // One dispatch for all wavelengths (the common kinds are evaluated inline).
+    switch (type) {
+      case SpectrumType::Constant:
+        return SampledSpectrum(constant);
+      case SpectrumType::RGBAlbedo:
+        for (int i = 0; i < kSpectrumSamples; ++i) s[i] = rgb.poly(w.lambda[i]);
+        return s;
+      case SpectrumType::RGBUnbounded:
+        for (int i = 0; i < kSpectrumSamples; ++i) s[i] = rgb.scale * rgb.poly(w.lambda[i]);
+        return s;
+      default:
+        for (int i = 0; i < kSpectrumSamples; ++i) s[i] = (*this)(w.lambda[i]);
+        return s;
+    }
   }
 
  private:
