@@ -527,6 +527,10 @@ TEST(Sobol, FastPathMatchesTheDefinitionBitForBit) {
   // equal the definition N(S_d(N(index, s0)), s_{d+1}) exactly.
   PCG32 rng;
   rng.set_sequence(11, 3);
+  for (int k = 0; k < 1000; ++k) {
+    uint32_t v = k < 32 ? 1u << k : rng.next_u32();
+    ASSERT_EQ(reverse_bits32(v), sobol_detail::reverse_bits32_constexpr(v)) << v;
+  }
   for (int k = 0; k < 20000; ++k) {
     uint32_t index = k < 4096 ? uint32_t(k) : rng.next_u32();
     uint32_t pair = rng.next_u32() % 64, seed = rng.next_u32();

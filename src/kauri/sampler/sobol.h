@@ -70,6 +70,12 @@ inline constexpr ReversedDim1Tables kDim1Reversed{};
 KAURI_HOST_DEVICE inline uint32_t reverse_bits32(uint32_t v) {
 #if defined(__CUDA_ARCH__)
   return __brev(v);
+#elif defined(__GNUC__)
+  // Byte swap in one instruction, then reverse the bits within each byte.
+  v = __builtin_bswap32(v);
+  v = ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
+  v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+  return ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
 #else
   v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
   v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
