@@ -415,7 +415,16 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
     }
     if (!std::isfinite(power[i]) || power[i] < 0) power[i] = 0;
   }
+  // Light selection: finite lights in proportion to their power; each infinite light
+  // (environment, distant) gets the same share as all finite lights together (as
+  // pbrt-v4's BVH light sampler does). An environment's "power" grows with the scene's
+  // bounding sphere and would otherwise starve small bright lights of samples.
   if (!c.lights_.empty()) {
+    double finite_total = 0;
+    for (size_t i = 0; i < power.size(); ++i)
+      if (!c.lights_[i].is_infinite()) finite_total += double(power[i]);
+    for (size_t i = 0; i < power.size(); ++i)
+      if (c.lights_[i].is_infinite() && power[i] > 0) power[i] = finite_total > 0 ? Float(finite_total) : Float(1);
     Float total = 0;
     for (Float p : power) total += p;
     if (total > 0) c.light_distribution_ = Distribution1DStorage(power);
