@@ -78,6 +78,22 @@ def _rectangle_to_world(quad):
     return M
 
 
+def mitsuba_latlong(img):
+    """kauri puts lat-long row y at v = (y + 0.5) / h (texel centres, bilinear between them,
+    constant from the first / last centre to the pole); Mitsuba 3's envmap puts row y at
+    v = y / (h − 1), its first and last rows on the poles (columns at centres, as kauri).
+    Resampling kauri's reconstruction at v = k / 2h, k = 0..2h, hits every row centre of
+    kauri's image, so Mitsuba's bilinear lookup of the result equals kauri's exactly."""
+    img = np.asarray(img, np.float64)
+    h = img.shape[0]
+    v = np.arange(2 * h + 1) / (2 * h)
+    f = np.clip(v * h - 0.5, 0, h - 1)
+    y0 = np.minimum(np.floor(f).astype(int), h - 2) if h > 1 else np.zeros_like(f, int)
+    t = (f - y0)[:, None, None]
+    y1 = np.minimum(y0 + 1, h - 1)
+    return ((1 - t) * img[y0] + t * img[y1]).astype(np.float32)
+
+
 def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65):
     """A Mitsuba 3 scene dict (load with mi.load_dict after mi.set_variant)."""
     import mitsuba as mi
@@ -92,7 +108,7 @@ def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65):
                     "film": {"type": "hdrfilm", "width": resolution[0], "height": resolution[1],
                              "rfilter": {"type": "gaussian", "stddev": 0.5}, "pixel_format": "rgb"}}}
     if "environment" in desc:
-        d["sky"] = {"type": "envmap", "bitmap": mi.Bitmap(np.asarray(desc["environment"], np.float32))}
+        d["sky"] = {"type": "envmap", "bitmap": mi.Bitmap(mitsuba_latlong(desc["environment"]))}
     if "environment_color" in desc:
         d["sky"] = {"type": "constant", "radiance": {"type": "rgb", "value": list(desc["environment_color"])}}
     for sh in desc["shapes"]:

@@ -13,9 +13,8 @@ def sky(width=128, height=64):
     up = np.clip(d[..., 1], 0, 1)
     img = np.zeros((height, width, 3))
     img[...] = (0.35 + 0.4 * up)[..., None] * np.array([0.55, 0.7, 1.0])
-    # Ground below the horizon, blended over ~15° so that no texel edge is a step: the
-    # renderers reconstruct texels differently (nearest vs bilinear), which only
-    # matters where the image jumps.
+    # Ground below the horizon, blended over ~15° (both renderers interpolate texels
+    # bilinearly; peers.mitsuba_latlong maps kauri's row placement onto Mitsuba's).
     t = np.clip(-d[..., 1] / 0.25, 0, 1)[..., None]
     img = img * (1 - t) + t * np.array([0.12, 0.1, 0.08])
     sun_dir = np.array([0.5, 0.6, 0.62]) / np.linalg.norm([0.5, 0.6, 0.62])

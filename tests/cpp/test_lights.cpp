@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "chi2.h"
+#include "kauri/light/env_importance.h"
 #include "kauri/light/light.h"
 #include "kauri/sampler/distribution.h"
 #include "kauri/spectral/spectral_tables.h"
@@ -84,7 +85,7 @@ Light distant_light(Vec3 n, Float cos_max) {
 }
 
 /// A small lat-long environment map with random texels (some black), its
-/// Distribution2D built from luminance × sinθ as scene_compile.cpp does.
+/// Distribution2D built by env_importance() as scene_compile.cpp does.
 struct EnvMapFixture {
   int w = 16, h = 8;
   std::vector<EnvTexel> texels;
@@ -94,9 +95,8 @@ struct EnvMapFixture {
   EnvMapFixture(const Frame& frame, uint64_t seed) {
     PCG32 rng(seed, 1);
     texels.resize(size_t(w * h));
-    std::vector<Float> weight(texels.size());
+    std::vector<Float> lum(texels.size());
     for (int y = 0; y < h; ++y) {
-      Float sin_theta = std::sin(kPi * (Float(y) + 0.5f) / Float(h));
       for (int x = 0; x < w; ++x) {
         size_t i = size_t(y * w + x);
         Float scale = rng.next_float() < 0.2f ? 0 : 2 * rng.next_float();
@@ -104,11 +104,10 @@ struct EnvMapFixture {
         // Constant sigmoid (c0 = c1 = 0): radiance = scale · s(c2) · D65(λ).
         Float c2 = 4 * rng.next_float() - 2;
         texels[i] = {scale, 0, 0, c2};
-        Float sig = 0.5f + c2 / (2 * std::sqrt(1 + c2 * c2));
-        weight[i] = scale * sig * sin_theta;
+        lum[i] = scale * (0.5f + c2 / (2 * std::sqrt(1 + c2 * c2)));
       }
     }
-    dist = std::make_unique<Distribution2DStorage>(weight, w, h);
+    dist = std::make_unique<Distribution2DStorage>(env_importance(lum, w, h), w, h);
     light.type = LightType::EnvMap;
     light.frame = frame;
     light.distribution = dist->view();
@@ -118,16 +117,28 @@ struct EnvMapFixture {
     light.texels = texels.data();
     light.scene_radius = 10;
   }
-  /// ∫ L dω over the sphere at wavelength `lambda`, exact (texels are constant in λ-shape).
+  /// ∫ L dω over the sphere at wavelength `lambda` for the bilinear reconstruction, by an
+  /// independent quadrature in double: in u the interpolation between texel centres keeps
+  /// each row's sum exactly (u wraps around); in v, radiance is linear between row centres
+  /// and clamped above the first and below the last, integrated against sinθ with 64
+  /// midpoints per row.
   double radiance_integral(Float lambda) const {
-    double sum = 0;
-    for (int y = 0; y < h; ++y) {
-      double solid = 2 * kPiD / w * (std::cos(kPiD * y / h) - std::cos(kPiD * (y + 1) / h));
+    std::vector<double> row(size_t(h), 0.0);  // per row: Σ_x L(x, y) · Δu
+    for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         const EnvTexel& t = texels[size_t(y * w + x)];
         double sig = 0.5 + double(t.c2) / (2 * std::sqrt(1 + double(t.c2) * double(t.c2)));
-        sum += double(t.scale) * sig * double(d65()(lambda)) * solid;
+        row[size_t(y)] += double(t.scale) * sig * double(d65()(lambda)) / w;
       }
+    double sum = 0;
+    const int n = 64 * h;
+    for (int k = 0; k < n; ++k) {
+      double v = (k + 0.5) / n, fy = v * h - 0.5;
+      int y0 = int(std::floor(fy));
+      double dy = fy - y0;
+      double a = row[size_t(std::clamp(y0, 0, h - 1))], b = row[size_t(std::clamp(y0 + 1, 0, h - 1))];
+      // dω = 2π² sin(πv) du dv
+      sum += ((1 - dy) * a + dy * b) * 2 * kPiD * kPiD * std::sin(kPiD * v) / n;
     }
     return sum;
   }

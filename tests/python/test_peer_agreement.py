@@ -57,11 +57,10 @@ def test_environment_map_scene_agrees_with_mitsuba():
     m = np.stack([block_means(peers.render_mitsuba(desc, "scalar_spectral", spp, res, seed=s)) for s in range(runs)])
     diff = np.abs(k.mean(0) - m.mean(0))
     se = np.sqrt(k.var(0, ddof=1) / runs + m.var(0, ddof=1) / runs)
-    # Blocks that see the sky directly have almost no variance; there the renderers'
-    # environment reconstruction differs slightly (kauri looks up the nearest texel,
-    # consistent with its piecewise-constant sampling density; Mitsuba interpolates
-    # bilinearly; the sky is smooth so this stays small), so a 1% systematic allowance
-    # is added to the noise bound.
-    bound = 5.0 * se + 0.01 * m.mean(0)
-    assert np.all(diff < bound), f"worst excess {(diff - bound).max():.4f}"
+    # Both renderers interpolate the environment bilinearly; Mitsuba places the image's
+    # first and last rows on the poles, kauri at texel centres, which peers.to_mitsuba
+    # resamples for (this half-texel difference alone made Mitsuba 0.5% brighter here).
+    # Blocks that see only sky have almost no variance: a 0.2% floor covers float noise.
+    bound = 5.0 * se + 0.002 * m.mean(0)
+    assert np.all(diff < bound), f"worst excess {(diff - bound).max():.4f}, max |z| {(diff / np.maximum(se, 1e-9)).max():.2f}"
     np.testing.assert_allclose(k.mean(axis=(0, 1, 2)), m.mean(axis=(0, 1, 2)), rtol=0.015)

@@ -72,18 +72,38 @@ KAURI_HOST_DEVICE inline Vec3 latlong_to_direction(Vec2 uv) {
   return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
 }
 
-KAURI_HOST_DEVICE inline SampledSpectrum env_texel_radiance(const Light& l, Vec2 uv, const SampledWavelengths& lambda) {
-  int x = int(uv.x * Float(l.width)), y = int(uv.y * Float(l.height));
-  x = x < 0 ? 0 : (x >= l.width ? l.width - 1 : x);
-  y = y < 0 ? 0 : (y >= l.height ? l.height - 1 : y);
+namespace light_detail {
+KAURI_HOST_DEVICE inline SampledSpectrum env_texel_spectrum(const Light& l, int x, int y, const SampledWavelengths& lambda) {
   const EnvTexel& t = l.texels[size_t(y) * size_t(l.width) + size_t(x)];
   SampledSpectrum s;
+  if (t.scale == 0) return s;
   for (int i = 0; i < kSpectrumSamples; ++i) {
     Float lam = lambda.lambda[i];
     Float xx = (t.c0 * lam + t.c1) * lam + t.c2;
     Float sig = std::isinf(xx) ? (xx > 0 ? Float(1) : Float(0)) : Float(0.5) + xx / (2 * std::sqrt(1 + xx * xx));
     s[i] = t.scale * sig * l.illuminant(lam);
   }
+  return s;
+}
+}  // namespace light_detail
+
+/// Environment radiance at lat-long `uv`: bilinear between texel centres (u wraps
+/// around, v clamps at the poles), interpolating the texels' spectra. The sampling
+/// density is piecewise constant over texels of a dilated image (scene_compile.cpp), so
+/// it is positive wherever this is.
+KAURI_HOST_DEVICE inline SampledSpectrum env_texel_radiance(const Light& l, Vec2 uv, const SampledWavelengths& lambda) {
+  Float fx = uv.x * Float(l.width) - Float(0.5), fy = uv.y * Float(l.height) - Float(0.5);
+  Float x0f = std::floor(fx), y0f = std::floor(fy);
+  Float dx = fx - x0f, dy = fy - y0f;
+  int x0 = int(x0f), y0 = int(y0f);
+  auto wrap_x = [&](int x) { int r = x % l.width; return r < 0 ? r + l.width : r; };
+  auto clamp_y = [&](int y) { return y < 0 ? 0 : (y >= l.height ? l.height - 1 : y); };
+  int xa = wrap_x(x0), xb = wrap_x(x0 + 1), ya = clamp_y(y0), yb = clamp_y(y0 + 1);
+  SampledSpectrum s(0);
+  const Float w[4] = {(1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy};
+  const int tx[4] = {xa, xb, xa, xb}, ty[4] = {ya, ya, yb, yb};
+  for (int k = 0; k < 4; ++k)
+    if (w[k] > 0) s += light_detail::env_texel_spectrum(l, tx[k], ty[k], lambda) * w[k];
   return s;
 }
 

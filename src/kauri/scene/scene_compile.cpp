@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "kauri/scene/scene.h"
+#include "kauri/light/env_importance.h"
 
 namespace kauri {
 
@@ -199,21 +200,17 @@ void CompiledScene::build_lights(const Scene& scene, const RGBColorSpace& cs) {
         l.frame.z = normalize(rot.vector({0, 0, 1}));
         const int w = d.width, h = d.height;
         std::vector<EnvTexel> texels(size_t(w) * size_t(h));
-        std::vector<Float> weight(texels.size());
-        for (int y = 0; y < h; ++y) {
-          Float sin_theta = std::sin(kPi * (Float(y) + 0.5f) / Float(h));
-          for (int x = 0; x < w; ++x) {
-            size_t i = size_t(y) * size_t(w) + size_t(x);
-            Vec3 rgb{d.image[3 * i], d.image[3 * i + 1], d.image[3 * i + 2]};
-            Spectrum s = emission_of(EmissionDesc{rgb, 0, d.emission.intensity, false}, cs);
-            EnvTexel t{0, 0, 0, 0};
-            if (s.type == SpectrumType::RGBIlluminant) t = {s.rgb.scale, s.rgb.poly.c0, s.rgb.poly.c1, s.rgb.poly.c2};
-            texels[i] = t;
-            // Importance ∝ texel luminance × sinθ (the lat-long area element), so
-            // the solid-angle density follows radiance.
-            weight[i] = fmax_(cs.to_xyz(rgb).y, 0) * sin_theta;
-          }
+        std::vector<Float> lum(texels.size()), weight(texels.size());
+        for (size_t i = 0; i < texels.size(); ++i) {
+          Vec3 rgb{d.image[3 * i], d.image[3 * i + 1], d.image[3 * i + 2]};
+          Spectrum s = emission_of(EmissionDesc{rgb, 0, d.emission.intensity, false}, cs);
+          EnvTexel t{0, 0, 0, 0};
+          if (s.type == SpectrumType::RGBIlluminant) t = {s.rgb.scale, s.rgb.poly.c0, s.rgb.poly.c1, s.rgb.poly.c2};
+          texels[i] = t;
+          lum[i] = fmax_(cs.to_xyz(rgb).y, 0);
         }
+        // Importance ∝ luminance × sinθ, dilated to cover the bilinear lookup.
+        weight = env_importance(lum, w, h);
         env_distributions_.push_back(std::make_unique<Distribution2DStorage>(weight, w, h));
         l.distribution = env_distributions_.back()->view();
         l.width = w;
