@@ -1,0 +1,102 @@
+"""The pure functions of bench/suite.py (no rendering): the relMSE estimator, efficiency and
+time-to-error, the ratio table, the block z-test and the scene registry."""
+import importlib.util
+import math
+import os
+import sys
+
+import numpy as np
+import pytest
+
+_PATH = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "suite.py")
+_spec = importlib.util.spec_from_file_location("bench_suite", _PATH)
+suite = importlib.util.module_from_spec(_spec)
+sys.modules["bench_suite"] = suite  # dataclasses look their module up there
+_spec.loader.exec_module(suite)
+
+
+def test_relmse_estimator_is_unbiased_for_a_known_variance():
+    rng = np.random.default_rng(1234)
+    h, w, c, k = 16, 16, 3, 4
+    ref = rng.uniform(0.0, 2.0, (h, w, c))
+    sigma = rng.uniform(0.01, 0.5, (h, w, c))
+    expected = np.mean(sigma ** 2 / (ref ** 2 + suite.REL_EPS))
+    # Few renders per estimate (K = 4): ddof = 1 keeps the mean of the estimates on target,
+    # the biased (ddof = 0) variance would be low by (K - 1) / K = 25%.
+    est = [suite.relmse_from_runs(ref + sigma * rng.standard_normal((k, h, w, c)), ref) for _ in range(400)]
+    assert np.mean(est) == pytest.approx(expected, rel=0.02)
+    # The estimate does not depend on the (unknown) expected image, only on the spread.
+    runs = ref + sigma * rng.standard_normal((k, h, w, c))
+    assert suite.relmse_from_runs(runs + 3.0, ref) == pytest.approx(suite.relmse_from_runs(runs, ref))
+
+
+def test_relmse_needs_two_renders():
+    with pytest.raises(ValueError):
+        suite.relmse_from_runs(np.zeros((1, 2, 2, 3)), np.zeros((2, 2, 3)))
+
+
+def test_efficiency_and_time_to_error_for_an_ideal_ladder():
+    spp = [4, 16, 64, 256]
+    t = [0.05 + 0.01 * s for s in spp]          # a fixed cost per call, then linear in spp
+    c = 0.3
+    err = [c / x for x in t]                     # relMSE exactly proportional to 1 / t
+    err[0] *= 10                                 # the 4-spp rung is below min_spp: ignored
+    assert suite.efficiency(spp, err, t, min_spp=16) == pytest.approx(c)
+    assert suite.time_to_error(c, 1e-3) == pytest.approx(300.0)
+    assert suite.loglog_slope(t[1:], err[1:]) == pytest.approx(-1.0)
+
+
+def test_efficiency_is_the_geometric_mean_of_relmse_times_t():
+    spp, err, t = [16, 64], [0.02, 0.004], [0.1, 0.4]   # products 2e-3 and 1.6e-3
+    assert suite.efficiency(spp, err, t) == pytest.approx(math.sqrt(2e-3 * 1.6e-3))
+    with pytest.raises(ValueError):
+        suite.efficiency([4], [0.1], [0.01], min_spp=16)
+
+
+def test_ratio_table_and_geometric_means():
+    times = {"a": {"kauri": 2.0, "x": 1.0, "y": 8.0},
+             "b": {"kauri": 1.0, "x": 4.0, "y": None},
+             "c": {"x": 1.0}}                      # no kauri: left out
+    r = suite.ratio_table(times)
+    assert r == {"a": {"x": 0.5, "y": 4.0}, "b": {"x": 4.0, "y": None}}
+    gm = suite.geometric_means(r)
+    assert gm["x"] == pytest.approx(math.sqrt(0.5 * 4.0))
+    assert gm["y"] == pytest.approx(4.0)
+    md = suite.md_table(["scene", "x / kauri"], [["a", suite.fmt_g(r["a"]["x"])], ["b", suite.fmt_g(None)]])
+    assert md.splitlines()[0].startswith("| scene") and "| 0.5 " in md and "–" in md
+
+
+def test_block_z_detects_a_bias_and_not_noise():
+    rng = np.random.default_rng(7)
+    k = 1.0 + 0.1 * rng.standard_normal((16, 36, 36, 3))
+    m = 1.0 + 0.1 * rng.standard_normal((16, 36, 36, 3))
+    z = suite.block_z(k, m)
+    assert z.shape == (4, 4, 3) and np.abs(z).max() < 5
+    assert np.abs(suite.block_z(k * 1.05, m)).max() > 5
+    assert suite.mean_rel_diff(k.mean(0) * 1.02, k.mean(0)) == pytest.approx([0.02] * 3)
+    # Per-render image means have sd 0.1 / 36 here: the SE of the difference of two 16-run means.
+    assert suite.mean_rel_diff_se(k, m) == pytest.approx([0.1 / 36 * math.sqrt(2 / 16)] * 3, rel=0.4)
+
+
+def test_relmse_between_mean_images_and_its_noise_level():
+    rng = np.random.default_rng(3)
+    a = 0.5 + 0.05 * rng.standard_normal((20, 8, 8, 3))
+    b = 0.5 + 0.05 * rng.standard_normal((20, 8, 8, 3))
+    rel, noise = suite.relmse_between(a, b)
+    # Unbiased: relMSE of the two means is at the noise level (factor ~1 up to sampling).
+    assert np.all(rel < 3 * noise) and np.all(rel > noise / 3)
+    rel_biased, _ = suite.relmse_between(a * 1.2, b)
+    assert np.all(rel_biased > 10 * noise)
+
+
+def test_block_averages_for_the_second_error_scale():
+    img = np.arange(8 * 8 * 3, dtype=float).reshape(1, 8, 8, 3)
+    blocks = suite.to_blocks(img)
+    assert blocks.shape == (1, 2, 2, 3)
+    assert blocks[0, 0, 0, 0] == pytest.approx(img[0, :4, :4, 0].mean())
+
+
+def test_scene_registry_has_describable_scenes():
+    assert {"cornell", "glossy", "hangar", "envmap"} <= set(suite.SCENES)
+    for module in suite.SCENES.values():
+        assert callable(module.describe)
