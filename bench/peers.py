@@ -122,7 +122,11 @@ def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65):
             shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": list(sh["emission"])}}
             shape["bsdf"] = {"type": "diffuse", "reflectance": {"type": "rgb", "value": [0.0, 0.0, 0.0]}}
         else:
-            shape["bsdf"] = _mitsuba_bsdf(sh)
+            # kauri's materials shade both sides alike (symmetric stacks); Mitsuba's BSDFs
+            # are black from behind unless wrapped in `twosided`. Open quads are seen from
+            # both sides (the hangar's crate fronts from the back wall), so wrap them.
+            bsdf = _mitsuba_bsdf(sh)
+            shape["bsdf"] = bsdf if bsdf["type"] == "roughdielectric" else {"type": "twosided", "bsdf": bsdf}
         d[sh["name"]] = shape
     return d
 

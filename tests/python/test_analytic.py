@@ -145,3 +145,25 @@ def test_blackbody_emitter_has_its_luminance_and_warm_colour():
     expected_y = RHO * 0.25 / (0.25 + 1.0)  # luminance-normalised: E_Y = π · 1 · r²/(r²+d²)
     np.testing.assert_allclose(warm @ ap1_y, expected_y, rtol=0.02)
     np.testing.assert_allclose(cold @ ap1_y, expected_y, rtol=0.02)
+
+
+@pytest.mark.parametrize("y0,z1,z2,a", [(0.5, 1.46, 1.70, 0.12), (0.2, 1.0, 1.24, 0.12), (1.0, 0.1, 0.5, 0.3)])
+def test_one_sided_quad_light_at_grazing_angles(y0, z1, z2, a):
+    # A wall (z = 0, facing +z) lit by a small down-facing quad lamp in front of and above
+    # it, as in the hangar scene's upper back wall: emission and incidence are both grazing.
+    # E = ∫ L cosθ_r cosθ_l / r² dA over the lamp (midpoint rule, 2000² cells).
+    rho, L = 0.5, 4.0
+    s = kauri.Scene()
+    P = np.array([[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]])
+    s.add_mesh(P, np.array([[0, 1, 2, 3]]), material=kauri.Lambert(albedo=(rho,) * 3), name="wall")
+    Q = np.array([[-a, y0, z1], [a, y0, z1], [a, y0, z2], [-a, y0, z2]])
+    s.add_mesh(Q, np.array([[0, 1, 2, 3]]), emission=kauri.Emission(intensity=L), name="lamp")
+    s.set_camera(kind="orthographic", eye=(0, 0, 0.5), target=(0, 0, 0), up=(0, 1, 0), width=0.002)
+    out = kauri.render(s, spp=4096, resolution=(4, 4), max_depth=1)
+    n = 2000
+    x = (np.arange(n) + 0.5) / n * 2 * a - a
+    z = (np.arange(n) + 0.5) / n * (z2 - z1) + z1
+    X, Z = np.meshgrid(x, z)
+    r2 = X ** 2 + y0 ** 2 + Z ** 2
+    E = (L * (Z / np.sqrt(r2)) * (y0 / np.sqrt(r2)) / r2).sum() * (2 * a / n) * ((z2 - z1) / n)
+    np.testing.assert_allclose(mean_rgb(out), rho * E / np.pi, rtol=0.005)
