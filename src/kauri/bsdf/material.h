@@ -97,6 +97,8 @@ struct MaterialView {
   int first_weight = 0;       // node weights (one per program node) in SceneView::node_weights
   bool ior_accumulation = false;
   bool roughness_accumulation = false;
+  bool has_coat = true;       // the program has a coat node (only coat reads lobe albedos);
+                              // set by the compiler, true (always compute) by default
 };
 
 namespace material_detail {
@@ -215,14 +217,10 @@ KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const Lob
     transmission[0] = 1;
   } else {
     LayerInputs in;
-    bool has_coat = false;
-    for (int i = 0; i < prog.n_nodes; ++i) {
-      in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(sp.attrs), 0, 1);
-      has_coat = has_coat || prog.nodes[i].op == LayerOp::Coat;
-    }
+    for (int i = 0; i < prog.n_nodes; ++i) in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(sp.attrs), 0, 1);
     // Only coat reads the stopped albedos a_b = 1 − a_t (eq. 5); an EDF stops no light
     // (a_t = 1): a layer under it is fully lit, one above it dims it.
-    if (has_coat)
+    if (m.has_coat)
       for (int i = 0; i < n; ++i)
         in.lobe_stopped[i] = params[i].emission ? SampledSpectrum(0) : SampledSpectrum(1) - lobes[i].albedo_t(wo);
     evaluate_layer_weights(prog, in, w, transmission);

@@ -101,6 +101,12 @@ LobeParams lobe_params(const LobeDesc& m, const RGBColorSpace& cs, std::deque<st
   return p;
 }
 
+static bool layout_has_coat(const LayerLayout& layout) {
+  for (const LayerNode& n : layout.nodes)
+    if (n.op == LayerOp::Coat) return true;
+  return false;
+}
+
 StandaloneMaterial::StandaloneMaterial(const MaterialDesc& m, ColorSpaceId cs_id) {
   CompiledMaterial c = compile_material(m);
   layout = c.layout;
@@ -117,6 +123,7 @@ StandaloneMaterial::StandaloneMaterial(const MaterialDesc& m, ColorSpaceId cs_id
     weights.push_back(ScalarInput{-1, w.value});
   }
   view.front = {layout.nodes.data(), layout.front_children.data(), int(layout.nodes.size())};
+  view.has_coat = layout_has_coat(layout);
   view.back = {layout.nodes.data(), layout.back_children.data(), int(layout.nodes.size())};
   view.n_lobes = int(lobes.size());
   view.ior_accumulation = m.ior_accumulation;
@@ -264,6 +271,7 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
     }
     MaterialView v;
     v.front = {layout->nodes.data(), layout->front_children.data(), int(layout->nodes.size())};
+    v.has_coat = layout_has_coat(*layout);
     v.back = {layout->nodes.data(), layout->back_children.data(), int(layout->nodes.size())};
     v.first_lobe = int(c.lobes_.size());
     v.n_lobes = int(cm.lobes.size());
