@@ -48,6 +48,7 @@ inline bool rel_close(double a, double b, double tol) {
 struct Albedo {
   double mean[kSpectrumSamples];
   double sigma[kSpectrumSamples];
+  double mean_t;  // hero wavelength, transmitted part only
 };
 
 /// Monte Carlo directional albedo ∫ f |cosθ_i| dω_i = E[f |cosθ_i| / pdf] with the lobe's
@@ -57,7 +58,7 @@ Albedo directional_albedo(const L& lobe, Vec3 wo, uint64_t seed, int n, Transpor
                           uint64_t stream = 3) {
   PCG32 rng(seed, stream);
   const SampledWavelengths lambda0 = test_wavelengths();
-  double sum[kSpectrumSamples] = {}, sum2[kSpectrumSamples] = {};
+  double sum[kSpectrumSamples] = {}, sum2[kSpectrumSamples] = {}, sum_t = 0;
   for (int k = 0; k < n; ++k) {
     SampledWavelengths lambda = lambda0;
     Float uc = rng.next_float();
@@ -67,6 +68,7 @@ Albedo directional_albedo(const L& lobe, Vec3 wo, uint64_t seed, int n, Transpor
       double w = double(s.f[i]) * std::fabs(double(s.wi.z)) / double(s.pdf);
       sum[i] += w;
       sum2[i] += w * w;
+      if (i == 0 && s.wi.z * wo.z < 0) sum_t += w;
     }
   }
   Albedo a;
@@ -74,6 +76,7 @@ Albedo directional_albedo(const L& lobe, Vec3 wo, uint64_t seed, int n, Transpor
     a.mean[i] = sum[i] / n;
     a.sigma[i] = std::sqrt(std::max(0.0, sum2[i] / n - a.mean[i] * a.mean[i]) / n);
   }
+  a.mean_t = sum_t / n;
   return a;
 }
 

@@ -21,7 +21,9 @@ namespace {
 
 using test::SphereChi2Config;
 
+using test::Albedo;
 using test::dir;
+using test::directional_albedo;
 using test::fmt;
 using test::next_2d;
 using test::rel_close;
@@ -69,39 +71,6 @@ void check_lobe_sampling(const L& lobe, Vec3 wo, const std::string& name, uint64
   EXPECT_EQ(specular, 0) << name << ": a non-delta lobe returned specular samples";
   EXPECT_EQ(f_mismatch, 0) << name << ": sample().f != eval(), max rel. error " << max_f_err;
   EXPECT_EQ(pdf_mismatch, 0) << name << ": sample().pdf != pdf(), max rel. error " << max_pdf_err;
-}
-
-struct Albedo {
-  double mean[kSpectrumSamples];
-  double sigma[kSpectrumSamples];
-  double mean_t;  // hero wavelength, transmitted part only
-};
-
-/// Monte Carlo directional albedo ∫ f |cosθ_i| dω_i = E[f |cosθ_i| / pdf] (failed samples count 0).
-template <class L>
-Albedo directional_albedo(const L& lobe, Vec3 wo, uint64_t seed, int n, TransportMode mode = TransportMode::Radiance) {
-  PCG32 rng(seed, 3);
-  const SampledWavelengths lambda0 = test_wavelengths();
-  double sum[kSpectrumSamples] = {}, sum2[kSpectrumSamples] = {}, sum_t = 0;
-  for (int k = 0; k < n; ++k) {
-    SampledWavelengths lambda = lambda0;
-    Float uc = rng.next_float();
-    BSDFSample s = lobe.sample(wo, uc, next_2d(rng), lambda, mode);
-    if (!s.valid()) continue;
-    for (int i = 0; i < kSpectrumSamples; ++i) {
-      double w = double(s.f[i]) * std::fabs(double(s.wi.z)) / double(s.pdf);
-      sum[i] += w;
-      sum2[i] += w * w;
-      if (i == 0 && s.wi.z * wo.z < 0) sum_t += w;
-    }
-  }
-  Albedo a;
-  for (int i = 0; i < kSpectrumSamples; ++i) {
-    a.mean[i] = sum[i] / n;
-    a.sigma[i] = std::sqrt(std::max(0.0, sum2[i] / n - a.mean[i] * a.mean[i]) / n);
-  }
-  a.mean_t = sum_t / n;
-  return a;
 }
 
 bool no_skip(Vec3, Vec3) { return false; }

@@ -37,6 +37,7 @@
 #include <cmath>
 
 #include "kauri/bsdf/bsdf_types.h"
+#include "kauri/bsdf/cosine_sampling.h"
 #include "kauri/sampler/sampling.h"
 
 namespace kauri {
@@ -99,15 +100,7 @@ struct OrenNayarLobe {
     return same_hemisphere(wo, wi) ? cosine_hemisphere_pdf(abs_cos_theta(wi)) : 0;
   }
   KAURI_HOST_DEVICE BSDFSample sample(Vec3 wo, Float, Vec2 u, SampledWavelengths&, TransportMode mode) const {
-    BSDFSample s;
-    if (wo.z == 0) return s;
-    s.wi = sample_cosine_hemisphere(u);
-    if (wo.z < 0) s.wi.z = -s.wi.z;
-    if (s.wi.z == 0) return s;
-    s.pdf = cosine_hemisphere_pdf(abs_cos_theta(s.wi));
-    s.f = eval(wo, s.wi, mode);
-    s.scattering = Scattering::Diffuse;
-    return s;
+    return sample_cosine_reflection(*this, wo, u, mode);
   }
 
   /// Exact directional albedo ρ E(μ_o) + ρ_ms (1 − E(μ_o)) (closed form, see above).
