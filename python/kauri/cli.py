@@ -62,7 +62,7 @@ def _cmd_render(args) -> int:
     try:
         result = render(scene, spp=args.spp, resolution=(w, h), seed=args.seed, threads=args.threads,
                         time_limit=args.time_limit, max_depth=args.max_depth, clamp=clamp,
-                        sampler=args.sampler, progress=not args.quiet)
+                        sampler=args.sampler, reconstruction=args.reconstruction, progress=not args.quiet)
     except (SceneError, ValueError) as e:
         print(f"kauri: error: {e}", file=sys.stderr)
         return 2
@@ -98,6 +98,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "for the demo scene, which tames its glass caustics)")
     r.add_argument("--sampler", choices=["sobol", "independent"], default="sobol",
                    help="sample generator (default: Owen-scrambled Sobol')")
+    r.add_argument("--reconstruction", choices=["splat", "filter_importance"], default="splat",
+                   help="pixel reconstruction: splat each sample into the pixels its filter reaches "
+                        "(default), or filter importance sampling (one pixel per sample, uncorrelated noise)")
     r.add_argument("--exposure", type=float, default=0.0, metavar="EV", help="preview exposure in stops")
     r.add_argument("--no-preview", action="store_true", help="do not write the PNG preview")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress bar")

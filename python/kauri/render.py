@@ -9,7 +9,8 @@ from . import _core
 from .scene import Scene, SceneError
 
 _RENDER_KEYS = ("spp", "resolution", "seed", "threads", "time_limit", "sampler", "max_depth", "max_diffuse",
-                "max_glossy", "max_transmission", "clamp", "filter", "filter_radius", "filter_sigma", "progress")
+                "max_glossy", "max_transmission", "clamp", "filter", "filter_radius", "filter_sigma", "reconstruction",
+                "progress")
 
 
 @dataclass
@@ -52,26 +53,31 @@ def _check_render_args(what: str, scene, resolution, spp, seed, threads) -> tupl
 def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, threads: int = 0,
            time_limit: float = 0.0, sampler: str = "sobol", max_depth: int = 16, max_diffuse: int = 6,
            max_glossy: int = 8, max_transmission: int = 12, clamp: float = 0.0, filter: str = "gaussian",
-           filter_radius: float = 2.0, filter_sigma: float = 0.5, progress: bool = False,
-           **extra) -> RenderOutput:
+           filter_radius: float = 2.0, filter_sigma: float = 0.5, reconstruction: str = "splat",
+           progress: bool = False, **extra) -> RenderOutput:
     """Renders ``scene``; returns a RenderOutput. Stops after ``spp`` samples per pixel or at
     the first pass boundary after ``time_limit`` seconds. Deterministic for a given seed,
     whatever ``threads`` is. The pixel filter is a Gaussian of std-dev ``filter_sigma``
-    truncated at ``filter_radius`` pixels (0.5 / 2.0, Mitsuba's defaults), or a box."""
+    truncated at ``filter_radius`` pixels (0.5 / 2.0, Mitsuba's defaults), or a box.
+    ``reconstruction``: "splat" (default) adds each sample, weighted by the filter, to every
+    pixel within the radius (lower per-pixel noise, correlated between neighbours);
+    "filter_importance" draws the sample position from the filter and gives it to its own
+    pixel alone (uncorrelated noise). Data AOVs always average a pixel's own samples."""
     if extra:
         raise SceneError(f"render: unknown parameter(s) {', '.join(map(repr, sorted(extra)))}; "
                          f"allowed: {', '.join(_RENDER_KEYS)}")
     w, h = _check_render_args("render", scene, resolution, spp, seed, threads)
     r = _core.render(scene._core, w, h, int(spp), int(seed), int(threads), float(time_limit), sampler,
                      int(max_depth), int(max_diffuse), int(max_glossy), int(max_transmission), float(clamp),
-                     filter, float(filter_radius), float(filter_sigma), bool(progress))
+                     filter, float(filter_radius), float(filter_sigma), reconstruction, bool(progress))
     return RenderOutput(r.rgba, r.albedo, r.normal, r.depth, r.stats, r.color_space, r)
 
 
 def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0, threads: int = 0,
                sampler: str = "sobol", max_depth: int = 16, max_diffuse: int = 6, max_glossy: int = 8,
                max_transmission: int = 12, filter: str = "gaussian", filter_radius: float = 2.0,
-               filter_sigma: float = 0.5, max_rays: int = 50_000_000, repeats: int = 3) -> dict:
+               filter_sigma: float = 0.5, reconstruction: str = "splat", max_rays: int = 50_000_000,
+               repeats: int = 3) -> dict:
     """Closeness to the limit: renders ``scene`` as render() would (multi-threaded, timed), then
     traces the same paths again on one thread recording every ray query, and replays the
     recorded rays through Embree alone (rtcIntersect1 / rtcOccluded1, ``threads`` threads,
@@ -81,7 +87,7 @@ def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0
     w, h = _check_render_args("ray_replay", scene, resolution, spp, seed, threads)
     d = dict(_core.ray_replay(scene._core, w, h, int(spp), int(seed), int(threads), sampler, int(max_depth),
                               int(max_diffuse), int(max_glossy), int(max_transmission), filter, float(filter_radius),
-                              float(filter_sigma), int(max_rays), int(repeats)))
+                              float(filter_sigma), reconstruction, int(max_rays), int(repeats)))
     d["render_rays_per_second"] = d["render_rays"] / d["render_seconds"] if d["render_seconds"] > 0 else 0.0
     t = d["replay_closest_seconds"] + d["replay_shadow_seconds"]
     d["embree_rays_per_second"] = (d["closest_rays"] + d["shadow_rays"]) / t if t > 0 else 0.0

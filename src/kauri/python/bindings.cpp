@@ -136,7 +136,7 @@ struct PyRenderResult {
 RenderSettings render_settings(int width, int height, int spp, uint64_t seed, int threads, double time_limit,
                                const std::string& sampler, int max_depth, int max_diffuse, int max_glossy,
                                int max_transmission, float clamp, const std::string& filter, float filter_radius,
-                               float filter_sigma, bool progress) {
+                               float filter_sigma, const std::string& reconstruction, bool progress) {
   if (spp <= 0) throw std::invalid_argument("render: parameter 'spp': must be > 0");
   if (threads < 0) throw std::invalid_argument("render: parameter 'threads': must be >= 0");
   if (!(time_limit >= 0)) throw std::invalid_argument("render: parameter 'time_limit': must be >= 0");
@@ -165,6 +165,11 @@ RenderSettings render_settings(int width, int height, int spp, uint64_t seed, in
   cfg.filter.radius = filter_radius;
   if (!(filter_sigma > 0)) throw std::invalid_argument("render: parameter 'filter_sigma': must be > 0");
   cfg.filter.sigma = filter_sigma;
+  if (reconstruction == "splat") cfg.reconstruction = FilmReconstruction::Splat;
+  else if (reconstruction == "filter_importance") cfg.reconstruction = FilmReconstruction::FilterImportance;
+  else
+    throw std::invalid_argument("render: parameter 'reconstruction': expected 'splat' or 'filter_importance', got '" +
+                                reconstruction + "'");
   cfg.progress = progress;
   return cfg;
 }
@@ -335,10 +340,11 @@ NB_MODULE(_core, m) {
 
   m.def("render", [](const Scene& scene, int width, int height, int spp, uint64_t seed, int threads, double time_limit,
                      const std::string& sampler, int max_depth, int max_diffuse, int max_glossy, int max_transmission,
-                     float clamp, const std::string& filter, float filter_radius, float filter_sigma, bool progress) {
+                     float clamp, const std::string& filter, float filter_radius, float filter_sigma,
+                     const std::string& reconstruction, bool progress) {
     RenderSettings cfg = render_settings(width, height, spp, seed, threads, time_limit, sampler, max_depth, max_diffuse,
                                          max_glossy, max_transmission, clamp, filter, filter_radius, filter_sigma,
-                                         progress);
+                                         reconstruction, progress);
     auto* out = new PyRenderResult{{}, scene.color_space_id(), seed};
     try {
       nb::gil_scoped_release release;
@@ -354,9 +360,11 @@ NB_MODULE(_core, m) {
   m.def("ray_replay", [](const Scene& scene, int width, int height, int spp, uint64_t seed, int threads,
                          const std::string& sampler, int max_depth, int max_diffuse, int max_glossy,
                          int max_transmission, const std::string& filter, float filter_radius, float filter_sigma,
+                         const std::string& reconstruction,
                          size_t max_rays, int repeats) {
     RenderSettings cfg = render_settings(width, height, spp, seed, threads, 0, sampler, max_depth, max_diffuse,
-                                         max_glossy, max_transmission, 0, filter, filter_radius, filter_sigma, false);
+                                         max_glossy, max_transmission, 0, filter, filter_radius, filter_sigma,
+                                         reconstruction, false);
     RayLog log;
     ReplayResult rep;
     RenderStats stats;

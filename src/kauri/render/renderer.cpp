@@ -91,7 +91,7 @@ class ProgressBar {
 struct TileContext {
   const CompiledScene& scene;
   const RenderSettings& cfg;
-  std::vector<PixelAccum>& film;
+  FilmView film;
   std::atomic<uint64_t>& rays;
   std::atomic<uint64_t>& nan_samples;
   std::vector<NaNReport>& nan_pixels;
@@ -104,19 +104,37 @@ Vec3 clamp_luminance(Vec3 rgb, Float y, Float clamp) {
   return rgb * (clamp / y);
 }
 
+/// Beauty sample into the film: splatted, or into its own pixel with weight 1.
+void add_beauty(const TileContext& c, PixelAccum& px, Vec2 film_pos, Vec3 rgb, Float alpha) {
+  if (c.cfg.reconstruction == FilmReconstruction::Splat) {
+    splat_sample(c.film, c.cfg.filter, film_pos, rgb, alpha);
+    return;
+  }
+  px.rgb[0] += double(rgb.x);
+  px.rgb[1] += double(rgb.y);
+  px.rgb[2] += double(rgb.z);
+  px.alpha += double(alpha);
+  px.weight += 1;
+}
+
 template <class Accel>
 void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y, uint32_t s0, uint32_t s1,
                           uint64_t* rays) {
   const SceneView& sv = c.scene.view();
-  PixelAccum& px = c.film[size_t(y) * size_t(c.cfg.width) + size_t(x)];
+  PixelAccum& px = c.film.at(x, y);
+  const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
   Sampler sampler;
   sampler.type = c.cfg.sampler;
   for (uint32_t s = s0; s < s1; ++s) {
     sampler.start_pixel_sample(x, y, s, c.cfg.seed);
-    Vec2 film_offset = c.cfg.filter.sample(sampler.get_2d());
+    // Splatting: uniform in the pixel, the filter weights the splat; filter importance
+    // sampling: ∝ the filter around the centre, weight 1 for this pixel.
+    Vec2 u_film = sampler.get_2d();
+    Vec2 film_pos = splat ? Vec2{Float(x) + u_film.x, Float(y) + u_film.y}
+                          : Vec2{Float(x) + 0.5f, Float(y) + 0.5f} + c.cfg.filter.sample(u_film);
     Vec2 u_lens = sampler.get_2d();
     SampledWavelengths lambda = SampledWavelengths::sample_visible(sampler.get_1d());
-    Ray ray = sv.camera.generate_ray({Float(x) + 0.5f + film_offset.x, Float(y) + 0.5f + film_offset.y}, u_lens);
+    Ray ray = sv.camera.generate_ray(film_pos, u_lens);
     PathOutput out;
     trace_path(sv, accel, c.cfg.integrator, ray, lambda, sampler, &out);
     *rays += out.rays;
@@ -125,18 +143,18 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
     Vec3 rgb = direct + clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, c.cfg.integrator.clamp);
     ++px.samples;
     if (!is_finite(rgb)) {
-      // A NaN/Inf sample is counted and reported, never splatted; the pixel keeps
-      // its sample count so the estimate stays normalised by what was traced.
+      // A NaN/Inf sample is counted and reported, and enters the film as black with
+      // its full weight, so the estimate stays normalised by what was traced.
       c.nan_samples.fetch_add(1);
-      std::lock_guard<std::mutex> lock(c.nan_mutex);
-      if (c.nan_pixels.size() < 32) c.nan_pixels.push_back({x, y, s});
+      {
+        std::lock_guard<std::mutex> lock(c.nan_mutex);
+        if (c.nan_pixels.size() < 32) c.nan_pixels.push_back({x, y, s});
+      }
+      add_beauty(c, px, film_pos, Vec3{0, 0, 0}, 0);
       continue;
     }
-    px.rgb[0] += double(rgb.x);
-    px.rgb[1] += double(rgb.y);
-    px.rgb[2] += double(rgb.z);
+    add_beauty(c, px, film_pos, rgb, out.hit ? 1 : 0);
     if (out.hit) {
-      px.alpha += 1;
       px.normal[0] += double(out.normal.x);
       px.normal[1] += double(out.normal.y);
       px.normal[2] += double(out.normal.z);
@@ -170,7 +188,7 @@ RenderResult resolve(const std::vector<PixelAccum>& film, int w, int h, const Sc
   r.depth.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const PixelAccum& p = film[i];
-    double inv = p.samples ? 1.0 / p.samples : 0;
+    double inv = p.weight > 0 ? 1.0 / p.weight : 0;
     Vec3 albedo_xyz;
     for (int k = 0; k < 3; ++k) {
       r.rgba[4 * i + size_t(k)] = float(p.rgb[k] * inv);
@@ -191,6 +209,30 @@ RenderResult resolve(const std::vector<PixelAccum>& film, int w, int h, const Sc
 }
 
 }  // namespace
+
+TileGrid make_tile_grid(const RenderSettings& cfg) {
+  TileGrid g;
+  const int w = cfg.width, h = cfg.height;
+  auto count = [&](int ts) { return ((w + ts - 1) / ts) * ((h + ts - 1) / ts); };
+  int ts = std::max(1, cfg.tile_size);
+  const int m = cfg.reconstruction == FilmReconstruction::Splat ? cfg.filter.margin() : 0;
+  if (m > 0) {
+    ts = std::max(ts, 2 * m);
+    // Small images: smaller tiles until each phase has enough tiles to balance the
+    // threads. A function of the image and filter only (never of the thread count).
+    while (ts / 2 >= 2 * m && count(ts) < 4 * 64) ts /= 2;
+  }
+  g.size = ts;
+  g.nx = (w + ts - 1) / ts;
+  g.ny = (h + ts - 1) / ts;
+  g.phases.resize(m > 0 ? 4 : 1);
+  for (int t = 0; t < g.nx * g.ny; ++t) {
+    int phase = m > 0 ? (t % g.nx) % 2 + 2 * ((t / g.nx) % 2) : 0;
+    g.phases[size_t(phase)].push_back(t);
+  }
+  return g;
+}
+
 
 size_t peak_rss_bytes() {
   struct rusage ru;
@@ -218,10 +260,10 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& cfg) {
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;
   std::mutex nan_mutex;
-  TileContext ctx{scene, cfg, film, rays, nan_samples, nan_pixels, nan_mutex};
+  TileContext ctx{scene, cfg, FilmView{film.data(), w, h}, rays, nan_samples, nan_pixels, nan_mutex};
 
-  const int ts = std::max(1, cfg.tile_size);
-  const int tiles_x = (w + ts - 1) / ts, tiles_y = (h + ts - 1) / ts;
+  const TileGrid grid = make_tile_grid(cfg);
+  const int ts = grid.size;
   const int threads = cfg.threads > 0 ? cfg.threads : tbb::this_task_arena::max_concurrency();
   tbb::task_arena arena(threads);
   ProgressBar progress(cfg.progress, uint64_t(w) * uint64_t(h) * uint64_t(cfg.spp), cfg.time_limit);
@@ -233,16 +275,19 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& cfg) {
     // later ones amortise the scheduling; each pass is deterministic by itself.
     uint32_t s0 = done_spp, s1 = std::min<uint32_t>(uint32_t(cfg.spp), done_spp + pass_spp);
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y), [&](const tbb::blocked_range<int>& r) {
-        for (int t = r.begin(); t != r.end(); ++t) {
-          int x0 = (t % tiles_x) * ts, y0 = (t / tiles_x) * ts;
-          uint64_t tile_rays = 0;
-          for (int y = y0; y < std::min(h, y0 + ts); ++y)
-            for (int x = x0; x < std::min(w, x0 + ts); ++x) render_pixel_samples(ctx, scene.accel(), x, y, s0, s1, &tile_rays);
-          rays.fetch_add(tile_rays);
-          progress.add(uint64_t(std::min(h, y0 + ts) - y0) * uint64_t(std::min(w, x0 + ts) - x0) * (s1 - s0));
-        }
-      });
+      for (const std::vector<int>& phase : grid.phases) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, phase.size()), [&](const tbb::blocked_range<size_t>& r) {
+          for (size_t i = r.begin(); i != r.end(); ++i) {
+            const int t = phase[i];
+            int x0 = (t % grid.nx) * ts, y0 = (t / grid.nx) * ts;
+            uint64_t tile_rays = 0;
+            for (int y = y0; y < std::min(h, y0 + ts); ++y)
+              for (int x = x0; x < std::min(w, x0 + ts); ++x) render_pixel_samples(ctx, scene.accel(), x, y, s0, s1, &tile_rays);
+            rays.fetch_add(tile_rays);
+            progress.add(uint64_t(std::min(h, y0 + ts) - y0) * uint64_t(std::min(w, x0 + ts) - x0) * (s1 - s0));
+          }
+        });
+      }
     });
     done_spp = s1;
     pass_spp = std::min<uint32_t>(pass_spp * 2, 16);
@@ -296,7 +341,7 @@ RayLog record_rays(const CompiledScene& scene, const RenderSettings& cfg, size_t
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;
   std::mutex nan_mutex;
-  TileContext ctx{scene, cfg, film, rays, nan_samples, nan_pixels, nan_mutex};
+  TileContext ctx{scene, cfg, FilmView{film.data(), cfg.width, cfg.height}, rays, nan_samples, nan_pixels, nan_mutex};
   RayLog log;
   RecordingAccel rec{scene.accel(), &log, max_rays};
   uint64_t n = 0;

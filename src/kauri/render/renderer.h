@@ -23,7 +23,8 @@ struct RenderSettings {
   SamplerType sampler = SamplerType::Sobol;
   IntegratorSettings integrator;
   PixelFilter filter;
-  int tile_size = 16;
+  FilmReconstruction reconstruction = FilmReconstruction::Splat;
+  int tile_size = 16;         // splatting may use smaller tiles on small images (see renderer.cpp)
   bool progress = true;       // progress bar with samples/s and ETA on stderr
 };
 
@@ -54,6 +55,18 @@ struct RenderResult {
   std::vector<float> depth;   // camera-space depth (inf where nothing was hit)
   RenderStats stats;
 };
+
+/// Tiles of a render. A splat reaches filter.margin() pixels beyond its tile, so with
+/// splatting the tiles are rendered in four phases by (tx mod 2, ty mod 2): tiles of one
+/// phase are a whole tile apart and, with tiles ≥ 2 margins wide, their splats never
+/// touch the same pixel. No locks, and each pixel receives its sums in the same order
+/// whatever the thread count, so images stay bit-identical across thread counts.
+struct TileGrid {
+  int size = 16, nx = 1, ny = 1;
+  std::vector<std::vector<int>> phases;  // tile indices (ty · nx + tx) per phase
+};
+
+TileGrid make_tile_grid(const RenderSettings& settings);
 
 RenderResult render(const CompiledScene& scene, const RenderSettings& settings);
 

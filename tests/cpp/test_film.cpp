@@ -1,0 +1,139 @@
+// Film reconstruction: filter splatting weights, clipping, the flat-field property of
+// the weighted estimator, and the tile phases that keep splats race-free.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "kauri/film/film.h"
+#include "kauri/render/renderer.h"
+
+namespace kauri {
+namespace {
+
+struct TestFilm {
+  int w, h;
+  std::vector<PixelAccum> px;
+  TestFilm(int w_, int h_) : w(w_), h(h_), px(size_t(w_) * size_t(h_)) {}
+  FilmView view() { return FilmView{px.data(), w, h}; }
+  const PixelAccum& at(int x, int y) const { return px[size_t(y) * size_t(w) + size_t(x)]; }
+};
+
+TEST(FilmSplat, MarginCoversTheFilterSupport) {
+  PixelFilter f;
+  f.radius = 0.5f;
+  EXPECT_EQ(f.margin(), 0);
+  f.radius = 1.0f;
+  EXPECT_EQ(f.margin(), 1);
+  f.radius = 2.0f;
+  EXPECT_EQ(f.margin(), 2);
+  f.radius = 2.6f;
+  EXPECT_EQ(f.margin(), 3);
+}
+
+TEST(FilmSplat, BoxOfHalfAPixelIsOnePixelPerSample) {
+  PixelFilter f;
+  f.type = FilterType::Box;
+  f.radius = 0.5f;
+  TestFilm film(6, 5);
+  // Including positions exactly on pixel edges: the half-open support gives them to one pixel.
+  const Vec2 positions[] = {{2.0f, 3.0f}, {2.999f, 3.5f}, {0.0f, 0.0f}, {5.99f, 4.99f}};
+  for (Vec2 p : positions) splat_sample(film.view(), f, p, Vec3{1, 2, 3}, 1);
+  double total = 0;
+  for (const PixelAccum& a : film.px) total += a.weight;
+  EXPECT_DOUBLE_EQ(total, 4.0);
+  EXPECT_DOUBLE_EQ(film.at(2, 3).weight, 2.0);
+  EXPECT_DOUBLE_EQ(film.at(0, 0).weight, 1.0);
+  EXPECT_DOUBLE_EQ(film.at(5, 4).weight, 1.0);
+  EXPECT_DOUBLE_EQ(film.at(2, 3).rgb[2], 6.0);
+}
+
+TEST(FilmSplat, GaussianWeightsFollowTheFilter) {
+  PixelFilter f;  // σ 0.5, radius 2
+  TestFilm film(16, 16);
+  const Vec2 p{8.25f, 7.5f};  // a quarter pixel left of pixel (8, 7)'s centre
+  splat_sample(film.view(), f, p, Vec3{1, 1, 1}, 1);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) {
+      double dx = double(p.x) - (x + 0.5), dy = double(p.y) - (y + 0.5);
+      bool inside = dx >= -2 && dx < 2 && dy >= -2 && dy < 2;
+      double want = inside ? std::exp(-(dx * dx + dy * dy) / (2 * 0.25)) : 0;
+      EXPECT_NEAR(film.at(x, y).weight, want, 1e-6 * want + 1e-12) << x << ", " << y;
+      EXPECT_DOUBLE_EQ(film.at(x, y).alpha, film.at(x, y).weight);
+    }
+}
+
+TEST(FilmSplat, ClipsAtTheImageEdges) {
+  PixelFilter f;
+  f.radius = 3.0f;
+  TestFilm film(3, 2);
+  splat_sample(film.view(), f, Vec2{0.01f, 1.99f}, Vec3{1, 1, 1}, 1);
+  splat_sample(film.view(), f, Vec2{2.99f, 0.0f}, Vec3{1, 1, 1}, 1);
+  for (const PixelAccum& a : film.px) EXPECT_GT(a.weight, 0);
+}
+
+// The weighted estimator Σ w L / Σ w is exact for a constant image, edges included.
+TEST(FilmSplat, FlatFieldStaysFlatEverywhere) {
+  PixelFilter f;
+  TestFilm film(9, 7);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (int y = 0; y < film.h; ++y)
+    for (int x = 0; x < film.w; ++x)
+      for (int s = 0; s < 4; ++s)
+        splat_sample(film.view(), f, Vec2{Float(x) + u(rng), Float(y) + u(rng)}, Vec3{0.25f, 0.5f, 2.0f}, 1);
+  for (const PixelAccum& a : film.px) {
+    ASSERT_GT(a.weight, 0);
+    EXPECT_NEAR(a.rgb[0] / a.weight, 0.25, 1e-6);
+    EXPECT_NEAR(a.rgb[1] / a.weight, 0.5, 1e-6);
+    EXPECT_NEAR(a.rgb[2] / a.weight, 2.0, 1e-6);
+    EXPECT_NEAR(a.alpha / a.weight, 1.0, 1e-6);
+  }
+}
+
+// Tiles of one phase, grown by the filter margin, must not overlap (no two threads
+// write one pixel), and every tile must be in exactly one phase.
+void expect_disjoint_phases(int w, int h, float radius, FilmReconstruction rec) {
+  RenderSettings cfg;
+  cfg.width = w;
+  cfg.height = h;
+  cfg.filter.radius = radius;
+  cfg.reconstruction = rec;
+  TileGrid g = make_tile_grid(cfg);
+  const int m = rec == FilmReconstruction::Splat ? cfg.filter.margin() : 0;
+  std::vector<int> seen(size_t(g.nx * g.ny), 0);
+  for (const std::vector<int>& phase : g.phases) {
+    std::vector<int> owner(size_t(w) * size_t(h), -1);
+    for (int t : phase) {
+      ++seen[size_t(t)];
+      int x0 = (t % g.nx) * g.size, y0 = (t / g.nx) * g.size;
+      for (int y = std::max(0, y0 - m); y < std::min(h, y0 + g.size + m); ++y)
+        for (int x = std::max(0, x0 - m); x < std::min(w, x0 + g.size + m); ++x) {
+          int& o = owner[size_t(y) * size_t(w) + size_t(x)];
+          ASSERT_EQ(o, -1) << "tiles " << o << " and " << t << " share pixel " << x << ", " << y << " (" << w << "x"
+                           << h << ", radius " << radius << ")";
+          o = t;
+        }
+    }
+  }
+  for (int c : seen) EXPECT_EQ(c, 1);
+}
+
+TEST(TileGrid, SplatPhasesNeverShareAPixel) {
+  for (FilmReconstruction rec : {FilmReconstruction::Splat, FilmReconstruction::FilterImportance})
+    for (float radius : {0.5f, 1.5f, 2.0f, 4.0f, 8.0f})
+      for (auto [w, h] : {std::pair{32, 32}, {33, 17}, {1, 1}, {640, 480}, {5, 300}})
+        expect_disjoint_phases(w, h, radius, rec);
+}
+
+TEST(TileGrid, SmallImagesGetEnoughTilesPerPhase) {
+  RenderSettings cfg;
+  cfg.width = cfg.height = 32;
+  TileGrid g = make_tile_grid(cfg);
+  ASSERT_EQ(g.phases.size(), 4u);
+  for (const auto& phase : g.phases) EXPECT_GE(phase.size(), 16u);
+}
+
+}  // namespace
+}  // namespace kauri
