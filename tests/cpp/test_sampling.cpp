@@ -546,6 +546,34 @@ TEST(Sobol, FastPathMatchesTheDefinitionBitForBit) {
   }
 }
 
+// The Sampler's request stream (1D requests share a pair, 2D requests start on an even
+// dimension) must be exactly the padded sequence: 1D values are coordinates of
+// owen_sobol_2d, whatever mix of 1D and 2D requests a path makes.
+TEST(Sobol, SamplerRequestsFollowTheDimensionLayout) {
+  PCG32 rng;
+  rng.set_sequence(5, 9);
+  for (int trial = 0; trial < 2000; ++trial) {
+    Sampler s;
+    uint32_t index = rng.next_u32() % 1024;
+    s.start_pixel_sample(int(rng.next_u32() % 64), int(rng.next_u32() % 64), index, 17);
+    uint32_t dim = 0;
+    for (int r = 0; r < 12; ++r) {
+      if (rng.next_u32() & 1) {
+        Float v = s.get_1d();
+        Vec2 p = owen_sobol_2d(index, dim >> 1, s.pixel_seed);
+        ASSERT_EQ(float_as_bits(v), float_as_bits(dim & 1 ? p.y : p.x)) << trial << " " << r;
+        ++dim;
+      } else {
+        dim += dim & 1;
+        Vec2 v = s.get_2d(), p = owen_sobol_2d(index, dim >> 1, s.pixel_seed);
+        ASSERT_EQ(float_as_bits(v.x), float_as_bits(p.x));
+        ASSERT_EQ(float_as_bits(v.y), float_as_bits(p.y));
+        dim += 2;
+      }
+    }
+  }
+}
+
 TEST(IndependentSampler, Uniform) {
   auto sample = [&](PCG32& r, double* x, double* y) {
     Sampler s;

@@ -237,6 +237,19 @@ TEST(Spectral, VisiblePdfIntegratesToOne) {
   EXPECT_EQ(visible_wavelength_pdf(831), 0);
 }
 
+// The fused sampler (no cosh/atanh) must return the same λ and the pdf at that λ.
+TEST(Spectral, FusedVisibleSamplingMatchesPdf) {
+  for (int k = 0; k <= 4096; ++k) {
+    Float u = std::min(Float(k) / 4096, kOneMinusEpsilon);
+    Float pdf = 0;
+    Float l = sample_visible_wavelength(u, &pdf);
+    ASSERT_GE(l, kLambdaMin);
+    ASSERT_LE(l, kLambdaMax);
+    EXPECT_NEAR(l, std::clamp(sample_visible_wavelength(u), kLambdaMin, kLambdaMax), 2e-3f) << u;
+    EXPECT_NEAR(pdf, visible_wavelength_pdf(l), 2e-5f * visible_wavelength_pdf(l)) << u;
+  }
+}
+
 TEST(Spectral, VisibleSamplingChiSquare) {
   // One test per stratum i of sample_visible (lambda_i for independent u are i.i.d.),
   // so the per-test level is Sidak-corrected: 1 - (1 - 0.01)^(1/4).

@@ -34,13 +34,27 @@ struct BSDF {
   KAURI_HOST_DEVICE Float lobe_scale(int i, Vec3 wo, Vec3 wi) const {
     return same_hemisphere(wo, wi) ? Float(1) : transmission[i];
   }
+  /// Directional albedo of the whole BSDF for ω_o (local frame): Σ weight × (reflection
+  /// + scaled transmission albedo).
+  KAURI_HOST_DEVICE SampledSpectrum albedo(Vec3 wo) const {
+    SampledSpectrum a(0);
+    for (int i = 0; i < n_lobes; ++i) a += lobe_albedo(i, wo) * weight[i];
+    return a;
+  }
+  KAURI_HOST_DEVICE SampledSpectrum lobe_albedo(int i, Vec3 wo) const {
+    return lobes[i].albedo_r(wo) + lobes[i].albedo_t(wo) * transmission[i];
+  }
   /// Lobe selection probabilities ∝ weight × average reflection+transmission albedo.
+  /// A single lobe needs no albedo query (for a conductor that is a 3×3 quadrature).
   KAURI_HOST_DEVICE void prepare(Vec3 wo_world) {
+    if (n_lobes == 1) {
+      select_prob[0] = 1;
+      return;
+    }
     Vec3 wo = frame.to_local(wo_world);
     Float total = 0;
     for (int i = 0; i < n_lobes; ++i) {
-      SampledSpectrum alb = lobes[i].albedo_r(wo) + lobes[i].albedo_t(wo) * transmission[i];
-      Float a = (alb * weight[i]).average();
+      Float a = (lobe_albedo(i, wo) * weight[i]).average();
       select_prob[i] = fmax_(a, 1e-3f * weight[i].average());
       total += select_prob[i];
     }

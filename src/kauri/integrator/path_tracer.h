@@ -100,12 +100,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     const Frame frame = Frame::from_zx(hit.ns, hit.dpdu);
     build_bsdf(s.materials[hit.material], s.lobes, s.node_weights, ShadingInputs(hit.attrs, hit.uv, s.textures), frame, hit.ng, wo, lambda, &bsdf);
     if (!out->albedo_set && (bsdf.has_non_specular() || st.depth + 1 >= cfg.max_depth)) {
-      Vec3 wl = frame.to_local(wo);
-      SampledSpectrum a(0);
-      for (int i = 0; i < bsdf.n_lobes; ++i) {
-        a += (bsdf.lobes[i].albedo_r(wl) + bsdf.lobes[i].albedo_t(wl) * bsdf.transmission[i]) * bsdf.weight[i];
-      }
-      out->albedo = a;
+      out->albedo = bsdf.albedo(frame.to_local(wo));
       out->albedo_set = true;
     }
     if (st.depth >= cfg.max_depth) break;

@@ -14,6 +14,7 @@ struct Sampler {
   uint32_t pixel_seed = 0;
   uint32_t index = 0;
   uint32_t dimension = 0;
+  Float pending_y = 0;  // Sobol': second coordinate of the pair a 1D request opened
   PCG32 rng;
 
   /// Starts sample `index` of pixel (px, py). `seed` decorrelates whole renders.
@@ -26,8 +27,16 @@ struct Sampler {
   }
   KAURI_HOST_DEVICE Float get_1d() {
     if (type == SamplerType::Independent) return rng.next_float();
-    // Consecutive 1D requests take the two coordinates of one stratified pair.
-    Float v = owen_sobol_1d(index, dimension >> 1, dimension & 1, pixel_seed);
+    // Consecutive 1D requests take the two coordinates of one stratified pair: the
+    // first computes the pair (sharing its index shuffle), the second takes the rest.
+    Float v;
+    if (dimension & 1) {
+      v = pending_y;
+    } else {
+      Vec2 p = owen_sobol_2d(index, dimension >> 1, pixel_seed);
+      v = p.x;
+      pending_y = p.y;
+    }
     ++dimension;
     return v;
   }

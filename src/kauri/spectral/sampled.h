@@ -84,6 +84,21 @@ KAURI_HOST_DEVICE inline Float visible_wavelength_pdf(Float lambda) {
 KAURI_HOST_DEVICE inline Float sample_visible_wavelength(Float u) {
   return 538 - 138.888889f * std::atanh(0.85691062f - 1.82750197f * u);
 }
+/// Both at once, without cosh or atanh: with y = 0.85691062 − 1.82750197 u,
+/// λ = 538 − 138.888889 atanh(y), and since 0.0072 · 138.888889 = 1,
+/// cosh²(0.0072 (λ − 538)) = cosh²(atanh y) = 1 / (1 − y²), so pdf = 0.0039398042 (1 − y²);
+/// atanh y = ½ log((1 + y) / (1 − y)). u ∈ [0, 1) keeps λ inside [360, 830] nm.
+KAURI_HOST_DEVICE inline Float sample_visible_wavelength(Float u, Float* pdf) {
+  Float y = 0.85691062f - 1.82750197f * u;
+  Float lambda = 538 - 69.4444445f * std::log((1 + y) / (1 - y));
+  if (!(lambda >= kLambdaMin && lambda <= kLambdaMax)) {  // float rounding at the ends
+    lambda = clamp(lambda, kLambdaMin, kLambdaMax);
+    *pdf = visible_wavelength_pdf(lambda);
+    return lambda;
+  }
+  *pdf = 0.0039398042f * (1 - y * y);
+  return lambda;
+}
 
 /// The path's wavelengths and their sampling densities. Sample 0 is the hero:
 /// direction sampling that depends on wavelength uses it alone.
@@ -98,8 +113,7 @@ struct SampledWavelengths {
     for (int i = 0; i < kSpectrumSamples; ++i) {
       Float ui = u + Float(i) / kSpectrumSamples;
       if (ui >= 1) ui -= 1;
-      w.lambda[i] = clamp(sample_visible_wavelength(ui), kLambdaMin, kLambdaMax);
-      w.pdf[i] = visible_wavelength_pdf(w.lambda[i]);
+      w.lambda[i] = sample_visible_wavelength(ui, &w.pdf[i]);
     }
     return w;
   }
