@@ -280,7 +280,7 @@ TEST(SmoothDielectric, ReflectionFrequencyIsFresnel) {
       ASSERT_TRUE(s.is_specular());
       if (!s.transmission) {
         ++refl;
-        EXPECT_EQ(s.pdf, Float(F));
+        EXPECT_NEAR(double(s.pdf), F, 1e-6);  // FMA contraction may round differently
       } else {
         EXPECT_NEAR(double(s.pdf), 1 - F, 1e-6);
       }
