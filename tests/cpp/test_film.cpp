@@ -64,6 +64,30 @@ TEST(FilmSplat, GaussianWeightsFollowTheFilter) {
     }
 }
 
+// The two-exponential recurrence must match weight_1d, including narrow Gaussians on
+// wide supports (where it falls back to one exponential per pixel).
+TEST(FilmSplat, RecurrenceWeightsMatchTheFilter) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (float sigma : {0.1f, 0.3f, 0.5f, 1.0f, 3.0f})
+    for (float radius : {0.5f, 1.0f, 2.0f, 3.3f, 8.0f}) {
+      PixelFilter f;
+      f.sigma = sigma;
+      f.radius = radius;
+      for (int k = 0; k < 200; ++k) {
+        const float p = 20 + u(rng);
+        const int i0 = 20 - f.margin(), i1 = 20 + f.margin();
+        float w[18];
+        filter_weights(f, p, i0, i1, w);
+        for (int i = i0; i <= i1; ++i) {
+          const float want = f.weight_1d(p - (float(i) + 0.5f));
+          ASSERT_NEAR(w[i - i0], want, 1e-5f * want + 1e-30f) << sigma << " " << radius << " " << p << " " << i;
+          ASSERT_TRUE(std::isfinite(w[i - i0]));
+        }
+      }
+    }
+}
+
 TEST(FilmSplat, ClipsAtTheImageEdges) {
   PixelFilter f;
   f.radius = 3.0f;
