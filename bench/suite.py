@@ -698,10 +698,9 @@ def _measure_rung(rnd, renderer, desc, spp, res, runs, seed0):
 
 
 # The two error scales of section 2: per pixel (the headline metric) and over 4x4-pixel blocks.
-# Mitsuba splats every sample into all pixels within the filter radius, so its per-pixel
-# noise is lower but correlated between neighbours; kauri importance-samples the filter (one
-# pixel per sample, uncorrelated noise). Averaging over 4x4 blocks removes most of that
-# difference, so both scales are reported.
+# Both renderers splat every sample into all pixels within the filter radius (kauri's default
+# reconstruction), so per-pixel noise is correlated between neighbours; the block scale shows
+# the error at a coarser grain, where that correlation no longer helps. Both are reported.
 METRICS = {"pixel": "per-pixel relMSE", "block": "4×4-block relMSE"}
 BLOCK = 4
 
@@ -781,10 +780,10 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
           "from the independent renders); the bias between renderers is section 1.",
           "",
           "Two scales: **per pixel** (mean over pixels and channels of s² / (ref² + 0.01)) and over "
-          "**4×4-pixel blocks** (the same on images averaged over 4×4 blocks). Mitsuba splats each sample "
-          "into every pixel within the 2-px filter radius, so its per-pixel noise is lower but correlated "
-          "between neighbours; kauri importance-samples the filter (each sample lands in one pixel, noise "
-          "uncorrelated). Averaging over blocks removes most of that difference.", ""]
+          "**4×4-pixel blocks** (the same on images averaged over 4×4 blocks). Both renderers splat each "
+          "sample into every pixel within the 2-px filter radius (kauri's default `reconstruction='splat'`), "
+          "which lowers per-pixel noise about threefold and correlates it between neighbours; over blocks "
+          "that correlation no longer helps.", ""]
     for m, title in METRICS.items():
         ttt = {n: {r: v.get("fit", {}).get(m, {}).get("time_to_target") for r, v in d["renderers"].items()}
                for n, d in data.items()}
@@ -1005,9 +1004,9 @@ def build_report(info, mode, argv, sections_md, thread_check, elapsed, done, loa
           "export and loading are not timed; JIT compile is reported separately), summarised as the time "
           "to reach the noise kauri reaches at its highest spp, and as the ratio of each peer's time to "
           "kauri's. kauri uses its default sampler "
-          "(Sobol, scrambled per seed) and importance-samples the pixel filter; Mitsuba uses the "
-          "`independent` sampler that peers.py configures and splats samples into neighbouring pixels; "
-          "both are part of the comparison. Section 3 compares kauri's ray throughput over a whole "
+          "(Sobol, scrambled per seed) and splats samples with the pixel filter; Mitsuba uses the "
+          "`independent` sampler that peers.py configures and splats samples the same way; "
+          "the samplers are part of the comparison. Section 3 compares kauri's ray throughput over a whole "
           "render with Embree's alone on the same recorded rays. Section 4 measures peak resident memory of a "
           "process that renders once, and of one that only loads the renderer and the scene.", "",
           "## Machine", "",
