@@ -8,6 +8,7 @@
 
 #include "kauri/film/film.h"
 #include "kauri/render/renderer.h"
+#include "kauri/scene/scene.h"
 
 namespace kauri {
 namespace {
@@ -149,6 +150,22 @@ TEST(TileGrid, SplatPhasesNeverShareAPixel) {
     for (float radius : {0.5f, 1.5f, 2.0f, 4.0f, 8.0f})
       for (auto [w, h] : {std::pair{32, 32}, {33, 17}, {1, 1}, {640, 480}, {5, 300}})
         expect_disjoint_phases(w, h, radius, rec);
+}
+
+// A splat's footprint is bounded by kMaxFilterRadius: render() refuses larger filters
+// instead of dropping samples.
+TEST(FilmSplat, RenderRefusesFiltersWiderThanTheLimit) {
+  Scene scene;
+  scene.set_camera(CameraDesc{});  // an empty scene: every ray misses
+  auto compiled = scene.compile(8, 8);
+  RenderSettings cfg;
+  cfg.width = cfg.height = 8;
+  cfg.spp = 1;
+  cfg.progress = false;
+  cfg.filter.radius = kMaxFilterRadius + 1;
+  EXPECT_THROW(render(*compiled, cfg), std::invalid_argument);
+  cfg.filter.radius = kMaxFilterRadius;
+  EXPECT_NO_THROW(render(*compiled, cfg));
 }
 
 TEST(TileGrid, SmallImagesGetEnoughTilesPerPhase) {

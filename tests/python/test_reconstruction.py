@@ -60,6 +60,11 @@ def test_box_of_half_a_pixel_is_the_same_image_either_way():
     np.testing.assert_allclose(a, b, rtol=1e-5, atol=1e-6)
 
 
+def test_too_wide_filter_is_refused():
+    with pytest.raises(ValueError, match="filter_radius"):
+        kauri.render(demo.build(), spp=1, resolution=(8, 8), filter_radius=9)
+
+
 def test_unknown_reconstruction_is_refused():
     with pytest.raises(ValueError, match="reconstruction"):
         kauri.render(demo.build(), spp=1, resolution=(8, 8), reconstruction="gather")

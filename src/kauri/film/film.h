@@ -22,6 +22,9 @@ namespace kauri {
 enum class FilterType : uint8_t { Gaussian, Box };
 enum class FilmReconstruction : uint8_t { Splat, FilterImportance };
 
+/// Largest filter radius (pixels) a render accepts: bounds a splat's footprint.
+inline constexpr Float kMaxFilterRadius = 8;
+
 struct PixelFilter {
   FilterType type = FilterType::Gaussian;
   Float sigma = 0.5f;   // Gaussian standard deviation (pixels)
@@ -60,7 +63,6 @@ struct PixelAccum {
   double normal[3] = {0, 0, 0};
   double depth = 0;
   uint32_t depth_count = 0;
-  uint32_t samples = 0;
 };
 
 /// The film as the render loop writes it: w × h pixels, row-major top-down.
@@ -75,16 +77,15 @@ struct FilmView {
 /// with a = 1/(2σ²), d = p − (i + ½):  w(d − 1) = w(d) r,  r(d − 1) = r(d) e^(−2a),
 /// r(d) = e^(a(2d − 1)); a relative rounding error of ~1e-6 over ≤ 18 steps.
 inline void filter_weights(const PixelFilter& f, Float p, int i0, int i1, Float* w) {
-  if (f.type != FilterType::Gaussian) {
-    for (int i = i0; i <= i1; ++i) w[i - i0] = f.weight_1d(p - (Float(i) + 0.5f));
-    return;
-  }
-  const Float a = 1 / (2 * f.sigma * f.sigma), q = std::exp(-2 * a);
+  const Float a = 1 / (2 * f.sigma * f.sigma);
   const Float d0 = p - (Float(i0) + 0.5f), d1 = p - (Float(i1) + 0.5f);
-  if (a * sqr(fmax_(std::fabs(d0), std::fabs(d1)) + 1) > 80) {  // the recurrence would leave float's range
+  // Box filters, and Gaussians where the recurrence would leave float's range: one
+  // weight_1d per pixel.
+  if (f.type != FilterType::Gaussian || a * sqr(fmax_(std::fabs(d0), std::fabs(d1)) + 1) > 80) {
     for (int i = i0; i <= i1; ++i) w[i - i0] = f.weight_1d(p - (Float(i) + 0.5f));
     return;
   }
+  const Float q = std::exp(-2 * a);
   Float wi = std::exp(-a * d0 * d0), r = std::exp(a * (2 * d0 - 1));
   for (int i = i0; i <= i1; ++i) {
     const Float d = p - (Float(i) + 0.5f);
@@ -98,7 +99,7 @@ inline void filter_weights(const PixelFilter& f, Float p, int i0, int i1, Float*
 /// the filter reaches, clipped to the image. Host code: pixels touched by one call
 /// lie within filter.margin() of p's pixel, which the render loop's tile phases rely on.
 inline void splat_sample(const FilmView& film, const PixelFilter& filter, Vec2 p, Vec3 rgb, Float alpha) {
-  constexpr int kMaxSpan = 2 * 8 + 2;  // radius ≤ 8 (checked where settings are made)
+  constexpr int kMaxSpan = 2 * int(kMaxFilterRadius) + 2;  // render() refuses larger radii
   const int m = filter.margin(), px = int(std::floor(p.x)), py = int(std::floor(p.y));
   const int x0 = std::max(0, px - m), x1 = std::min(film.width - 1, px + m);
   const int y0 = std::max(0, py - m), y1 = std::min(film.height - 1, py + m);

@@ -161,7 +161,8 @@ RenderSettings render_settings(int width, int height, int spp, uint64_t seed, in
   if (filter == "gaussian") cfg.filter.type = FilterType::Gaussian;
   else if (filter == "box") cfg.filter.type = FilterType::Box;
   else throw std::invalid_argument("render: parameter 'filter': expected 'gaussian' or 'box', got '" + filter + "'");
-  if (!(filter_radius > 0 && filter_radius <= 8)) throw std::invalid_argument("render: parameter 'filter_radius': must be in (0, 8]");
+  if (!(filter_radius > 0 && filter_radius <= kMaxFilterRadius))
+    throw std::invalid_argument("render: parameter 'filter_radius': must be in (0, 8]");
   cfg.filter.radius = filter_radius;
   if (!(filter_sigma > 0)) throw std::invalid_argument("render: parameter 'filter_sigma': must be > 0");
   cfg.filter.sigma = filter_sigma;

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <mutex>
 #include <sstream>
+#include <stdexcept>
 
 #include "kauri/integrator/path_tracer.h"
 
@@ -104,6 +105,13 @@ Vec3 clamp_luminance(Vec3 rgb, Float y, Float clamp) {
   return rgb * (clamp / y);
 }
 
+/// Settings the render loop relies on (the Python layer checks them first, with its names).
+void check_settings(const RenderSettings& cfg) {
+  if (cfg.width <= 0 || cfg.height <= 0) throw std::invalid_argument("render: the image size must be positive");
+  if (!(cfg.filter.radius > 0 && cfg.filter.radius <= kMaxFilterRadius))
+    throw std::invalid_argument("render: filter radius must be in (0, 8] pixels");
+}
+
 /// Beauty sample into the film: splatted, or into its own pixel with weight 1.
 void add_beauty(const TileContext& c, PixelAccum& px, Vec2 film_pos, Vec3 rgb, Float alpha) {
   if (c.cfg.reconstruction == FilmReconstruction::Splat) {
@@ -141,7 +149,6 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
     Vec3 direct = sv.to_rgb(sampled_to_xyz(out.L_direct_first, lambda));
     Vec3 indirect_xyz = sampled_to_xyz(out.L, lambda);
     Vec3 rgb = direct + clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, c.cfg.integrator.clamp);
-    ++px.samples;
     if (!is_finite(rgb)) {
       // A NaN/Inf sample is counted and reported, and enters the film as black with
       // its full weight, so the estimate stays normalised by what was traced.
@@ -233,7 +240,6 @@ TileGrid make_tile_grid(const RenderSettings& cfg) {
   return g;
 }
 
-
 size_t peak_rss_bytes() {
   struct rusage ru;
   getrusage(RUSAGE_SELF, &ru);
@@ -255,6 +261,7 @@ std::string RenderStats::summary() const {
 }
 
 RenderResult render(const CompiledScene& scene, const RenderSettings& cfg) {
+  check_settings(cfg);
   const int w = cfg.width, h = cfg.height;
   std::vector<PixelAccum> film(size_t(w) * size_t(h));
   std::atomic<uint64_t> rays{0}, nan_samples{0};
@@ -337,6 +344,7 @@ struct RecordingAccel {
 };
 
 RayLog record_rays(const CompiledScene& scene, const RenderSettings& cfg, size_t max_rays) {
+  check_settings(cfg);
   std::vector<PixelAccum> film(size_t(cfg.width) * size_t(cfg.height));
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;

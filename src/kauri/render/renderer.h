@@ -37,7 +37,7 @@ struct RenderStats {
   double seconds = 0;
   uint64_t samples = 0, rays = 0;
   int spp = 0;                // samples per pixel actually rendered
-  uint64_t nan_samples = 0;   // non-finite samples caught (not splatted)
+  uint64_t nan_samples = 0;   // non-finite samples caught (entered the film as black)
   std::vector<NaNReport> nan_pixels;  // the first few, for debugging
   size_t scene_bytes = 0;
   int materials = 0, layer_layouts = 0;  // distinct layer-program layouts (shared ones count once)
