@@ -141,7 +141,7 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
     Vec2 film_pos = splat ? Vec2{Float(x) + u_film.x, Float(y) + u_film.y}
                           : Vec2{Float(x) + 0.5f, Float(y) + 0.5f} + c.cfg.filter.sample(u_film);
     Vec2 u_lens = sampler.get_2d();
-    SampledWavelengths lambda = SampledWavelengths::sample_visible(sampler.get_1d());
+    SampledWavelengths lambda = sample_wavelengths(sv.wavelengths, sampler.get_1d());
     Ray ray = sv.camera.generate_ray(film_pos, u_lens);
     PathOutput out;
     trace_path(sv, accel, c.cfg.integrator, ray, lambda, sampler, &out);

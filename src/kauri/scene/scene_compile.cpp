@@ -479,6 +479,7 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   v.illuminant = Spectrum::make_dense(*cs.illuminant);
   for (int r = 0; r < 3; ++r)
     for (int k = 0; k < 3; ++k) v.xyz_to_rgb[r][k] = cs.xyz_to_rgb[r][k];
+  v.wavelengths = cs.wavelengths;
   c.bytes_ += c.lights_.size() * sizeof(Light) + c.lobes_.size() * sizeof(LobeParams) +
               c.emitter_first_light_.size() * sizeof(int) + c.light_distribution_.bytes();
   (void)cs_ptr;

@@ -6,6 +6,7 @@
 #include "kauri/camera/camera.h"
 #include "kauri/geometry/shapes.h"
 #include "kauri/light/light.h"
+#include "kauri/spectral/wavelength_sampling.h"
 
 namespace kauri {
 
@@ -43,6 +44,7 @@ struct SceneView {
   Camera camera;
   Spectrum illuminant;                    // working-space white, Y = 1 (albedo AOV)
   Float xyz_to_rgb[3][3];                 // XYZ → working space
+  WavelengthDistribution wavelengths;     // path wavelengths, matched to the working space
 
   KAURI_HOST_DEVICE Vec3 to_rgb(Vec3 xyz) const {
     return {xyz_to_rgb[0][0] * xyz.x + xyz_to_rgb[0][1] * xyz.y + xyz_to_rgb[0][2] * xyz.z,

@@ -27,8 +27,8 @@ void to_float(const double in[3][3], Float out[3][3]) {
     for (int j = 0; j < 3; ++j) out[i][j] = Float(in[i][j]);
 }
 
-void build(ColorSpaceId id, NormalisedIlluminant* illum, RGBColorSpace* cs) {
-  double to_xyz[3][3], to_rgb[3][3];
+void build(ColorSpaceId id, NormalisedIlluminant* illum, std::vector<float>* knots, RGBColorSpace* cs) {
+  double to_xyz[3][3], to_rgb[3][3] = {};
   rgb_to_xyz_matrix(color_space_definition(id), to_xyz);
   invert3x3(to_xyz, to_rgb);
   normalise_illuminant(id, illum);
@@ -37,13 +37,16 @@ void build(ColorSpaceId id, NormalisedIlluminant* illum, RGBColorSpace* cs) {
   to_float(to_rgb, cs->xyz_to_rgb);
   cs->illuminant = &illum->view;
   cs->table = &rgb_to_spectrum_table(id);
+  *knots = output_wavelength_knots(cs->xyz_to_rgb);
+  cs->wavelengths = {knots->data(), int(knots->size())};
 }
 
 struct Registry {
   NormalisedIlluminant illuminants[kSpaces];
+  std::vector<float> wavelength_knots[kSpaces];
   RGBColorSpace spaces[kSpaces];
   Registry() {
-    for (int i = 0; i < kSpaces; ++i) build(ColorSpaceId(i), &illuminants[i], &spaces[i]);
+    for (int i = 0; i < kSpaces; ++i) build(ColorSpaceId(i), &illuminants[i], &wavelength_knots[i], &spaces[i]);
   }
 };
 

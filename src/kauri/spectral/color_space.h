@@ -11,6 +11,7 @@
 #include "kauri/spectral/rgb_to_spectrum.h"
 #include "kauri/spectral/spectral_tables.h"
 #include "kauri/spectral/spectrum.h"
+#include "kauri/spectral/wavelength_sampling.h"
 
 namespace kauri {
 
@@ -23,6 +24,7 @@ struct RGBColorSpace {
   Float rgb_to_xyz[3][3];
   const DenselySampled* illuminant;   ///< the space's white, scaled to Y = 1
   const RGBToSpectrumTable* table;    ///< Jakob-Hanika coefficients for this space
+  WavelengthDistribution wavelengths; ///< path wavelengths for an image in this space
 
   KAURI_HOST_DEVICE Vec3 to_rgb(Vec3 xyz) const { return apply(xyz_to_rgb, xyz); }
   KAURI_HOST_DEVICE Vec3 to_xyz(Vec3 rgb) const { return apply(rgb_to_xyz, rgb); }
