@@ -7,12 +7,11 @@
 // follows ȳ, so it starves the blue channel (z̄ peaks at 445 nm): for a grey sky its
 // relative variance in blue is 0.34 per 4-wavelength sample. Sampling instead
 //     p(λ) ∝ (Σ_c |r̄_c(λ)| / mean)^0.6 + 0.02,
-// the absolute matching functions of the space the film writes (Radziszewski et al.
-// 2009, "Optimizing spectral sampling", take the same view of p as a fit to the
-// CMFs), flattened by the exponent because the 4 wavelengths are stratified
-// (wavelength i at u + i/4), cuts that to 0.04 and the summed R+G+B relative variance
-// 4-8× for grey, red, green, blue and gold spectra (tests/cpp/test_wavelength_sampling.cpp
-// measures it; docs/spectral.md has the numbers). The floor keeps p > 0 wherever any
+// the absolute matching functions of the space the film writes, flattened by the
+// exponent because the 4 wavelengths are stratified (wavelength i at u + i/4), lowers
+// the summed R+G+B relative variance of a sample 2.4-9× for grey, red, green, blue and
+// gold reflectances (grey: 0.36 → 0.044; tests/cpp/test_wavelength_sampling.cpp
+// measures it, docs/spectral.md has the table). The floor keeps p > 0 wherever any
 // CMF is, so every spectrum is estimated without bias.
 //
 // The density is stored as its inverse CDF at uniform steps of u: sampling is one
