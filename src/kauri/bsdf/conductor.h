@@ -89,6 +89,7 @@ struct GGXConductorLobe {
   /// eval/pdf/albedo query. Call again if η, κ or α change.
   KAURI_HOST_DEVICE void cache_multiple_scattering() {
     ms_cached = false;
+    if (!compensate) return;  // F_ms is only read by the compensation term
     ms_colour = F_ms(E_avg());
     ms_cached = true;
   }

@@ -30,7 +30,10 @@ struct Lobe {
     OrenNayarLobe oren_nayar;
   };
 
-  KAURI_HOST_DEVICE Lobe() : lambert() {}
+  /// Storage only: no union member is initialised (BSDF and material evaluation keep
+  /// arrays of kMaxLobes / kMaxLayerNodes lobes per hit, and zeroing ~1.5 KB each time
+  /// cost ~5% of a glossy render). Assign a concrete lobe before use.
+  KAURI_HOST_DEVICE Lobe() {}
   KAURI_HOST_DEVICE Lobe(const LambertLobe& l) : type(LobeType::Lambert), lambert(l) {}
   KAURI_HOST_DEVICE Lobe(const SmoothDielectricLobe& l) : type(LobeType::SmoothDielectric), dielectric(l) {}
   KAURI_HOST_DEVICE Lobe(const GGXConductorLobe& l) : type(LobeType::GGXConductor), conductor(l) {}
