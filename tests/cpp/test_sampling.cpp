@@ -548,7 +548,7 @@ TEST(Sobol, FastPathMatchesTheDefinitionBitForBit) {
 
 // The Sampler's request stream (1D requests share a pair, 2D requests start on an even
 // dimension) must be exactly the padded sequence: 1D values are coordinates of
-// owen_sobol_2d, whatever mix of 1D and 2D requests a path makes.
+// owen_sobol_2d, whatever mix of 1D and 2D requests and skips a path makes.
 TEST(Sobol, SamplerRequestsFollowTheDimensionLayout) {
   PCG32 rng;
   rng.set_sequence(5, 9);
@@ -558,7 +558,14 @@ TEST(Sobol, SamplerRequestsFollowTheDimensionLayout) {
     s.start_pixel_sample(int(rng.next_u32() % 64), int(rng.next_u32() % 64), index, 17);
     uint32_t dim = 0;
     for (int r = 0; r < 12; ++r) {
-      if (rng.next_u32() & 1) {
+      const uint32_t op = rng.next_u32() % 4;
+      if (op == 2) {  // skips move the dimension exactly as the request would
+        s.skip_1d();
+        ++dim;
+      } else if (op == 3) {
+        s.skip_2d();
+        dim += (dim & 1) + 2;
+      } else if (op == 1) {
         Float v = s.get_1d();
         Vec2 p = owen_sobol_2d(index, dim >> 1, s.pixel_seed);
         ASSERT_EQ(float_as_bits(v), float_as_bits(dim & 1 ? p.y : p.x)) << trial << " " << r;

@@ -31,13 +31,12 @@ KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const Path
   return power_heuristic(st.prev_pdf, p_light_solid);
 }
 
-/// One next-event estimate from `hit` with the BSDF `bsdf`.
+/// One next-event estimate from `hit` with the BSDF `bsdf`: `u_light` picks the light,
+/// `u` the point on it.
 template <class Accel>
 KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel& accel, const SurfaceHit& hit,
                                                 const BSDF& bsdf, Vec3 wo, const SampledWavelengths& lambda,
-                                                Sampler& sampler, uint32_t* rays) {
-  Float u_light = sampler.get_1d();
-  Vec2 u = sampler.get_2d();
+                                                Float u_light, Vec2 u, uint32_t* rays) {
   if (s.n_lights == 0) return SampledSpectrum(0);
   Float pmf;
   int li = s.light_distribution.sample_discrete(u_light, &pmf);
@@ -105,12 +104,18 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     }
     if (st.depth >= cfg.max_depth) break;
 
+    // Dimension layout of a bounce: light point (2D), light choice and lobe choice (one
+    // pair), BSDF direction (2D), Russian roulette (1D). Values a vertex does not use
+    // are skipped, not computed, so the layout never depends on the material.
     if (bsdf.has_non_specular()) {
-      SampledSpectrum Ld = path_detail::sample_direct(s, accel, hit, bsdf, wo, lambda, sampler, &out->rays);
+      Vec2 u_light_point = sampler.get_2d();
+      Float u_light = sampler.get_1d();
+      SampledSpectrum Ld =
+          path_detail::sample_direct(s, accel, hit, bsdf, wo, lambda, u_light, u_light_point, &out->rays);
       out->add(st.beta * Ld, st, ContributionKind::DirectLight);
     } else {
-      sampler.get_1d();  // keep the dimension layout independent of the material
-      sampler.get_2d();
+      sampler.skip_2d();
+      sampler.skip_1d();
     }
 
     Float uc = sampler.get_1d();
@@ -125,8 +130,10 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     if (!st.record_scatter(bs, cfg)) break;
 
     // Russian roulette on the throughput, with radiance-scale from refraction removed.
-    Float u_rr = sampler.get_1d();
-    if (st.depth >= cfg.rr_min_depth) {
+    if (st.depth < cfg.rr_min_depth) {
+      sampler.skip_1d();
+    } else {
+      Float u_rr = sampler.get_1d();
       Float q = fmax_(Float(0), 1 - (st.beta * st.eta_scale).max_value());
       if (u_rr < q) break;
       st.beta *= 1 / (1 - q);

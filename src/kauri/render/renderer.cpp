@@ -140,7 +140,9 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
     Vec2 u_film = sampler.get_2d();
     Vec2 film_pos = splat ? Vec2{Float(x) + u_film.x, Float(y) + u_film.y}
                           : Vec2{Float(x) + 0.5f, Float(y) + 0.5f} + c.cfg.filter.sample(u_film);
-    Vec2 u_lens = sampler.get_2d();
+    Vec2 u_lens;
+    if (sv.camera.lens_radius > 0) u_lens = sampler.get_2d();
+    else sampler.skip_2d();  // a pinhole needs no lens sample
     SampledWavelengths lambda = sample_wavelengths(sv.wavelengths, sampler.get_1d());
     Ray ray = sv.camera.generate_ray(film_pos, u_lens);
     PathOutput out;

@@ -14,7 +14,10 @@ struct Sampler {
   uint32_t pixel_seed = 0;
   uint32_t index = 0;
   uint32_t dimension = 0;
-  Float pending_y = 0;  // Sobol': second coordinate of the pair a 1D request opened
+  // Sobol': the pair computed for an even dimension by a 1D request; its y serves the
+  // next 1D request if that is dimension pending_dim (never after a skip).
+  Float pending_y = 0;
+  uint32_t pending_dim = ~0u;
   PCG32 rng;
 
   /// Starts sample `index` of pixel (px, py). `seed` decorrelates whole renders.
@@ -23,6 +26,7 @@ struct Sampler {
     pixel_seed = uint32_t(h ^ (h >> 32));
     index = sample_index;
     dimension = 0;
+    pending_dim = ~0u;
     if (type == SamplerType::Independent) rng.set_sequence(pixel_seed, mix_bits(sample_index + 1));
   }
   KAURI_HOST_DEVICE Float get_1d() {
@@ -30,12 +34,13 @@ struct Sampler {
     // Consecutive 1D requests take the two coordinates of one stratified pair: the
     // first computes the pair (sharing its index shuffle), the second takes the rest.
     Float v;
-    if (dimension & 1) {
+    if (dimension == pending_dim) {
       v = pending_y;
     } else {
       Vec2 p = owen_sobol_2d(index, dimension >> 1, pixel_seed);
-      v = p.x;
+      v = dimension & 1 ? p.y : p.x;
       pending_y = p.y;
+      pending_dim = dimension | 1;
     }
     ++dimension;
     return v;
@@ -50,6 +55,24 @@ struct Sampler {
     Vec2 p = owen_sobol_2d(index, dimension >> 1, pixel_seed);
     dimension += 2;
     return p;
+  }
+  /// Advance past a value the path does not need (a pinhole's lens sample, light
+  /// sampling at a specular vertex) without computing it: the dimensions of everything
+  /// after it stay where they would be.
+  KAURI_HOST_DEVICE void skip_1d() {
+    if (type == SamplerType::Independent) {
+      rng.next_u32();
+      return;
+    }
+    ++dimension;
+  }
+  KAURI_HOST_DEVICE void skip_2d() {
+    if (type == SamplerType::Independent) {
+      rng.next_u32();
+      rng.next_u32();
+      return;
+    }
+    dimension += (dimension & 1) + 2;
   }
 };
 
