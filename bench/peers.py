@@ -139,6 +139,7 @@ def render_mitsuba(desc, variant="scalar_rgb", spp=64, resolution=(64, 64), seed
 
 
 def render_kauri(desc, spp=64, resolution=(64, 64), seed=0):
+    # The beauty alone, like Mitsuba's film here (kauri's albedo / normal / depth AOVs are not compared).
     out = kauri.render(to_kauri(desc), spp=spp, resolution=resolution, seed=seed, max_depth=64, max_diffuse=64,
-                       max_glossy=64, max_transmission=64)
+                       max_glossy=64, max_transmission=64, aovs=False)
     return out.rgba[:, :, :3].astype(np.float64)

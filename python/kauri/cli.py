@@ -62,7 +62,8 @@ def _cmd_render(args) -> int:
     try:
         result = render(scene, spp=args.spp, resolution=(w, h), seed=args.seed, threads=args.threads,
                         time_limit=args.time_limit, max_depth=args.max_depth, clamp=clamp,
-                        sampler=args.sampler, reconstruction=args.reconstruction, progress=not args.quiet)
+                        sampler=args.sampler, reconstruction=args.reconstruction, progress=not args.quiet,
+                        aovs=not args.no_aovs)
     except (SceneError, ValueError) as e:
         print(f"kauri: error: {e}", file=sys.stderr)
         return 2
@@ -103,6 +104,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "(default), or filter importance sampling (one pixel per sample, uncorrelated noise)")
     r.add_argument("--exposure", type=float, default=0.0, metavar="EV", help="preview exposure in stops")
     r.add_argument("--no-preview", action="store_true", help="do not write the PNG preview")
+    r.add_argument("--no-aovs", action="store_true",
+                   help="beauty only: skip the albedo, normal and depth AOVs (the EXR holds RGBA; a little faster)")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     return p
 

@@ -17,7 +17,7 @@ def test_help_lists_commands_and_options():
     assert r.returncode == 0 and "render" in r.stdout
     r = run("render", "--help")
     assert r.returncode == 0
-    for opt in ("--spp", "--res", "--threads", "--seed", "--time-limit", "-o", "SCENE"):
+    for opt in ("--spp", "--res", "--threads", "--seed", "--time-limit", "--no-aovs", "-o", "SCENE"):
         assert opt in r.stdout
 
 
@@ -50,6 +50,13 @@ def test_render_scene_file_writes_exr_and_png(tmp_path):
     with OpenEXR.File(str(out), separate_channels=True) as f:
         assert f.channels()["R"].pixels.shape == (24, 32)
         assert np.all(np.isfinite(f.channels()["R"].pixels))
+        assert "albedo.R" in f.channels() and "Z" in f.channels()
+    beauty = tmp_path / "beauty.exr"
+    r = run("render", str(scene), "-o", str(beauty), "--spp", "4", "--res", "32x24", "--seed", "3", "-q", "--no-aovs")
+    assert r.returncode == 0, r.stderr
+    with OpenEXR.File(str(beauty), separate_channels=True) as f, OpenEXR.File(str(out), separate_channels=True) as g:
+        assert set(f.channels()) == {"R", "G", "B", "A"}
+        np.testing.assert_array_equal(f.channels()["R"].pixels, g.channels()["R"].pixels)
 
 
 def test_demo_render_shows_progress(tmp_path):

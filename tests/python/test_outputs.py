@@ -41,6 +41,20 @@ def test_render_returns_beauty_and_aovs(small_demo):
     assert out.stats["rays"] >= out.stats["samples"]
 
 
+def test_beauty_without_aovs_is_identical(small_demo, tmp_path):
+    # aovs=False skips albedo, normal and depth; the AOVs draw no samples, so the beauty
+    # must be bit-identical to the render with them, and the EXR holds RGBA alone.
+    out = kauri.render(demo.build(), spp=8, resolution=(48, 40), seed=7, aovs=False)
+    assert out.albedo is None and out.normal is None and out.depth is None
+    np.testing.assert_array_equal(out.rgba, small_demo.rgba)
+    OpenEXR = pytest.importorskip("OpenEXR")
+    path = tmp_path / "beauty.exr"
+    out.write_exr(str(path))
+    with OpenEXR.File(str(path), separate_channels=True) as f:
+        assert set(f.channels()) == {"R", "G", "B", "A"}
+        np.testing.assert_array_equal(f.channels()["G"].pixels, out.rgba[:, :, 1])
+
+
 def test_colour_bleeding_is_visible(small_demo):
     # Left wall red, right wall green: the white floor near each wall picks up its colour.
     rgb = small_demo.rgba[:, :, :3]

@@ -70,8 +70,10 @@ void write_exr(const std::string& path, const RenderResult& r, const ExrMetadata
       {"A", r.rgba.data() + 3, 4},       {"albedo.R", r.albedo.data() + 0, 3}, {"albedo.G", r.albedo.data() + 1, 3},
       {"albedo.B", r.albedo.data() + 2, 3}, {"N.X", r.normal.data() + 0, 3}, {"N.Y", r.normal.data() + 1, 3},
       {"N.Z", r.normal.data() + 2, 3},   {"Z", r.depth.data(), 1}};
+  const bool aovs = !r.albedo.empty();  // a beauty-only render (aovs = false) writes RGBA
   Imf::FrameBuffer fb;
   for (const Channel& c : channels) {
+    if (!aovs && c.stride != 4) continue;
     header.channels().insert(c.name, Imf::Channel(Imf::FLOAT));
     fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char*)c.base, sizeof(float) * c.stride, sizeof(float) * c.stride * size_t(w)));
   }

@@ -98,7 +98,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     BSDF bsdf;
     const Frame frame = Frame::from_zx(hit.ns, hit.dpdu);
     build_bsdf(s.materials[hit.material], s.lobes, s.node_weights, ShadingInputs(hit.attrs, hit.uv, s.textures), frame, hit.ng, wo, lambda, &bsdf);
-    if (!out->albedo_set && (bsdf.has_non_specular() || st.depth + 1 >= cfg.max_depth)) {
+    if (cfg.albedo_aov && !out->albedo_set && (bsdf.has_non_specular() || st.depth + 1 >= cfg.max_depth)) {
       out->albedo = bsdf.albedo(frame.to_local(wo));
       out->albedo_set = true;
     }

@@ -133,6 +133,13 @@ struct PyRenderResult {
   uint64_t seed;
 };
 
+/// An AOV as an (h, w, channels) array ((h, w) for one channel), or None if not rendered.
+nb::object aov_or_none(const PyRenderResult& p, const std::vector<float>& v, size_t channels) {
+  if (v.empty()) return nb::none();
+  const size_t h = size_t(p.r.height), w = size_t(p.r.width);
+  return nb::cast(channels == 1 ? to_numpy(v, {h, w}) : to_numpy(v, {h, w, channels}), nb::rv_policy::move);
+}
+
 RenderSettings render_settings(int width, int height, int spp, uint64_t seed, int threads, double time_limit,
                                const std::string& sampler, int max_depth, int max_diffuse, int max_glossy,
                                int max_transmission, float clamp, const std::string& filter, float filter_radius,
@@ -306,9 +313,10 @@ NB_MODULE(_core, m) {
 
   nb::class_<PyRenderResult>(m, "RenderResult")
       .def_prop_ro("rgba", [](const PyRenderResult& p) { return to_numpy(p.r.rgba, {size_t(p.r.height), size_t(p.r.width), 4}); }, nb::rv_policy::move)
-      .def_prop_ro("albedo", [](const PyRenderResult& p) { return to_numpy(p.r.albedo, {size_t(p.r.height), size_t(p.r.width), 3}); }, nb::rv_policy::move)
-      .def_prop_ro("normal", [](const PyRenderResult& p) { return to_numpy(p.r.normal, {size_t(p.r.height), size_t(p.r.width), 3}); }, nb::rv_policy::move)
-      .def_prop_ro("depth", [](const PyRenderResult& p) { return to_numpy(p.r.depth, {size_t(p.r.height), size_t(p.r.width)}); }, nb::rv_policy::move)
+      // AOVs are None when the render skipped them (aovs=False).
+      .def_prop_ro("albedo", [](const PyRenderResult& p) { return aov_or_none(p, p.r.albedo, 3); })
+      .def_prop_ro("normal", [](const PyRenderResult& p) { return aov_or_none(p, p.r.normal, 3); })
+      .def_prop_ro("depth", [](const PyRenderResult& p) { return aov_or_none(p, p.r.depth, 1); })
       .def_prop_ro("stats", [](const PyRenderResult& p) {
         const RenderStats& s = p.r.stats;
         nb::dict d;
@@ -342,10 +350,11 @@ NB_MODULE(_core, m) {
   m.def("render", [](const Scene& scene, int width, int height, int spp, uint64_t seed, int threads, double time_limit,
                      const std::string& sampler, int max_depth, int max_diffuse, int max_glossy, int max_transmission,
                      float clamp, const std::string& filter, float filter_radius, float filter_sigma,
-                     const std::string& reconstruction, bool progress) {
+                     const std::string& reconstruction, bool progress, bool aovs) {
     RenderSettings cfg = render_settings(width, height, spp, seed, threads, time_limit, sampler, max_depth, max_diffuse,
                                          max_glossy, max_transmission, clamp, filter, filter_radius, filter_sigma,
                                          reconstruction, progress);
+    cfg.aovs = aovs;
     auto* out = new PyRenderResult{{}, scene.color_space_id(), seed};
     try {
       nb::gil_scoped_release release;
@@ -362,10 +371,11 @@ NB_MODULE(_core, m) {
                          const std::string& sampler, int max_depth, int max_diffuse, int max_glossy,
                          int max_transmission, const std::string& filter, float filter_radius, float filter_sigma,
                          const std::string& reconstruction,
-                         size_t max_rays, int repeats) {
+                         size_t max_rays, int repeats, bool aovs) {
     RenderSettings cfg = render_settings(width, height, spp, seed, threads, 0, sampler, max_depth, max_diffuse,
                                          max_glossy, max_transmission, 0, filter, filter_radius, filter_sigma,
                                          reconstruction, false);
+    cfg.aovs = aovs;
     RayLog log;
     ReplayResult rep;
     RenderStats stats;

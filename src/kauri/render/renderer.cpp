@@ -163,6 +163,7 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
       continue;
     }
     add_beauty(c, px, film_pos, rgb, out.hit ? 1 : 0);
+    if (!c.cfg.aovs) continue;
     if (out.hit) {
       px.normal[0] += double(out.normal.x);
       px.normal[1] += double(out.normal.y);
@@ -186,26 +187,31 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   }
 }
 
-RenderResult resolve(const std::vector<PixelAccum>& film, int w, int h, const SceneView& sv, Vec3 white_xyz) {
+/// Film sums → pixel values: beauty, and the AOVs when they were gathered.
+RenderResult resolve(const std::vector<PixelAccum>& film, int w, int h, const SceneView& sv, Vec3 white_xyz,
+                     bool aovs) {
   RenderResult r;
   r.width = w;
   r.height = h;
   const size_t n = size_t(w) * size_t(h);
   r.rgba.resize(4 * n);
+  for (size_t i = 0; i < n; ++i) {
+    const PixelAccum& p = film[i];
+    double inv = p.weight > 0 ? 1.0 / p.weight : 0;
+    for (int k = 0; k < 3; ++k) r.rgba[4 * i + size_t(k)] = float(p.rgb[k] * inv);
+    r.rgba[4 * i + 3] = float(p.alpha * inv);
+  }
+  if (!aovs) return r;
   r.albedo.resize(3 * n);
   r.normal.resize(3 * n);
   r.depth.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const PixelAccum& p = film[i];
-    double inv = p.weight > 0 ? 1.0 / p.weight : 0;
     Vec3 albedo_xyz;
-    for (int k = 0; k < 3; ++k) {
-      r.rgba[4 * i + size_t(k)] = float(p.rgb[k] * inv);
+    for (int k = 0; k < 3; ++k)
       albedo_xyz[k] = p.white_xyz[k] > 0 ? Float(p.albedo_xyz[k] / p.white_xyz[k]) * white_xyz[k] : 0;
-    }
     Vec3 albedo = sv.to_rgb(albedo_xyz);
     for (int k = 0; k < 3; ++k) r.albedo[3 * i + size_t(k)] = albedo[k];
-    r.rgba[4 * i + 3] = float(p.alpha * inv);
     Vec3 nrm{Float(p.normal[0]), Float(p.normal[1]), Float(p.normal[2])};
     Float l = length(nrm);
     if (l > 0) nrm = nrm / l;
@@ -262,8 +268,10 @@ std::string RenderStats::summary() const {
   return os.str();
 }
 
-RenderResult render(const CompiledScene& scene, const RenderSettings& cfg) {
-  check_settings(cfg);
+RenderResult render(const CompiledScene& scene, const RenderSettings& settings) {
+  check_settings(settings);
+  RenderSettings cfg = settings;
+  cfg.integrator.albedo_aov = cfg.aovs;
   const int w = cfg.width, h = cfg.height;
   std::vector<PixelAccum> film(size_t(w) * size_t(h));
   std::atomic<uint64_t> rays{0}, nan_samples{0};
@@ -304,7 +312,7 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& cfg) {
   }
   progress.finish();
 
-  RenderResult result = resolve(film, w, h, scene.view(), spectrum_to_xyz(scene.view().illuminant));
+  RenderResult result = resolve(film, w, h, scene.view(), spectrum_to_xyz(scene.view().illuminant), cfg.aovs);
   RenderStats& st = result.stats;
   st.seconds = seconds_since(t0);
   st.spp = int(done_spp);

@@ -26,6 +26,7 @@ struct RenderSettings {
   FilmReconstruction reconstruction = FilmReconstruction::Splat;
   int tile_size = 16;         // splatting may use smaller tiles on small images (see renderer.cpp)
   bool progress = true;       // progress bar with samples/s and ETA on stderr
+  bool aovs = true;           // albedo, normal and depth; false: the beauty alone (faster)
 };
 
 struct NaNReport {
@@ -50,6 +51,7 @@ struct RenderStats {
 struct RenderResult {
   int width = 0, height = 0;
   std::vector<float> rgba;    // working space, premultiplied alpha, row-major top-down
+  // AOVs: empty when RenderSettings::aovs is false.
   std::vector<float> albedo;  // 3 per pixel
   std::vector<float> normal;  // 3 per pixel, world-space shading normal
   std::vector<float> depth;   // camera-space depth (inf where nothing was hit)
