@@ -9,6 +9,11 @@ namespace kauri {
 
 enum class SamplerType : uint32_t { Independent = 0, Sobol = 1 };
 
+/// Scramble seeds of the first dimension pairs depend on the pixel alone, not on the
+/// sample index: a pixel's samples (the render loop draws them in a row) compute them
+/// once. Three hashes of the ~80 operations of a pair; past the cache, computed per call.
+inline constexpr uint32_t kCachedSobolPairs = 24;
+
 struct Sampler {
   SamplerType type = SamplerType::Sobol;
   uint32_t pixel_seed = 0;
@@ -19,11 +24,18 @@ struct Sampler {
   Float pending_y = 0;
   uint32_t pending_dim = ~0u;
   PCG32 rng;
+  uint32_t seeds_pixel = 0;    // pixel_seed the cached pair seeds belong to
+  uint32_t seeded_pairs = 0;   // pairs [0, seeded_pairs) of seeds_pixel are cached
+  SobolPairSeeds seeds[kCachedSobolPairs];
 
   /// Starts sample `index` of pixel (px, py). `seed` decorrelates whole renders.
   KAURI_HOST_DEVICE void start_pixel_sample(int px, int py, uint32_t sample_index, uint64_t seed) {
     uint64_t h = hash4(uint64_t(uint32_t(px)), uint64_t(uint32_t(py)), seed, 0x6b617572u);
     pixel_seed = uint32_t(h ^ (h >> 32));
+    if (pixel_seed != seeds_pixel) {
+      seeds_pixel = pixel_seed;
+      seeded_pairs = 0;
+    }
     index = sample_index;
     dimension = 0;
     pending_dim = ~0u;
@@ -37,7 +49,7 @@ struct Sampler {
     if (dimension == pending_dim) {
       v = pending_y;
     } else {
-      Vec2 p = owen_sobol_2d(index, dimension >> 1, pixel_seed);
+      Vec2 p = pair(dimension >> 1);
       v = dimension & 1 ? p.y : p.x;
       pending_y = p.y;
       pending_dim = dimension | 1;
@@ -52,9 +64,18 @@ struct Sampler {
       return {a, rng.next_float()};
     }
     dimension += dimension & 1;
-    Vec2 p = owen_sobol_2d(index, dimension >> 1, pixel_seed);
+    Vec2 p = pair(dimension >> 1);
     dimension += 2;
     return p;
+  }
+  /// Point `k` of the current sample's padded sequence (owen_sobol_2d, bit for bit).
+  KAURI_HOST_DEVICE Vec2 pair(uint32_t k) {
+    if (k >= kCachedSobolPairs) return owen_sobol_2d(index, k, pixel_seed);
+    while (seeded_pairs <= k) {
+      seeds[seeded_pairs] = SobolPairSeeds(seeded_pairs, pixel_seed);
+      ++seeded_pairs;
+    }
+    return owen_sobol_2d(index, seeds[k]);
   }
   /// Advance past a value the path does not need (a pinhole's lens sample, light
   /// sampling at a specular vertex) without computing it: the dimensions of everything

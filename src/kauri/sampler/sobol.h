@@ -119,6 +119,7 @@ KAURI_HOST_DEVICE inline uint32_t hash_u32(uint32_t x) {
 /// Scramble seeds of dimension pair `pair`: index shuffle, x and y Owen scrambles.
 struct SobolPairSeeds {
   uint32_t shuffle, x, y;
+  SobolPairSeeds() = default;
   KAURI_HOST_DEVICE SobolPairSeeds(uint32_t pair, uint32_t pixel_seed)
       : shuffle(hash_u32(pixel_seed ^ (pair * 0x9e3779b9u))),
         x(hash_u32(pixel_seed ^ (pair * 0x85ebca6bu + 1u))),
@@ -131,14 +132,16 @@ struct SobolPairSeeds {
 /// with N(v, s) = R(LK(R(v), s)) and S0 = R. Writing a = R(shuffled) = LK(R(index), s0):
 ///   x = R(LK(R(a), s1)),  y = R(LK(M(a), s2)),  M = R ∘ S1 ∘ R (byte tables),
 /// four bit reversals instead of seven, bit-identical to the definition.
-KAURI_HOST_DEVICE inline Vec2 owen_sobol_2d(uint32_t index, uint32_t pair, uint32_t pixel_seed) {
-  SobolPairSeeds s(pair, pixel_seed);
+KAURI_HOST_DEVICE inline Vec2 owen_sobol_2d(uint32_t index, const SobolPairSeeds& s) {
   uint32_t a = laine_karras_permutation(reverse_bits32(index), s.shuffle);
   const auto& m = sobol_detail::kDim1Reversed.t;
   uint32_t ma = m[0][a & 0xff] ^ m[1][(a >> 8) & 0xff] ^ m[2][(a >> 16) & 0xff] ^ m[3][a >> 24];
   uint32_t x = reverse_bits32(laine_karras_permutation(reverse_bits32(a), s.x));
   uint32_t y = reverse_bits32(laine_karras_permutation(ma, s.y));
   return {u32_to_unit(x), u32_to_unit(y)};
+}
+KAURI_HOST_DEVICE inline Vec2 owen_sobol_2d(uint32_t index, uint32_t pair, uint32_t pixel_seed) {
+  return owen_sobol_2d(index, SobolPairSeeds(pair, pixel_seed));
 }
 
 /// Only coordinate `which` (0: x, 1: y) of owen_sobol_2d: what a 1D request needs.
