@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "chi2.h"
+#include "lobe_sampling_check.h"
 #include "lobe_test_util.h"
 #include "kauri/bsdf/bsdf.h"
 
@@ -47,44 +48,6 @@ GGXConductorLobe perfect_mirror_metal(Float ax, Float ay) {
   l.eta = SampledSpectrum(1);
   l.k = SampledSpectrum(1e4f);
   return l;
-}
-
-/// Chi-square test of lobe.sample(wo) against lobe.pdf(wo, ·), plus per-sample
-/// checks that sample().f == eval() and sample().pdf == pdf() (relative 1e-3).
-template <class L>
-void check_lobe_sampling(const L& lobe, Vec3 wo, const std::string& name, uint64_t seed, int samples = 1000000) {
-  const SampledWavelengths lambda0 = test_wavelengths();
-  int f_mismatch = 0, pdf_mismatch = 0;
-  double max_f_err = 0, max_pdf_err = 0;
-  auto sample = [&](PCG32& r, Vec3* w) {
-    SampledWavelengths lambda = lambda0;
-    Float uc = r.next_float();
-    BSDFSample s = lobe.sample(wo, uc, next_2d(r), lambda, TransportMode::Radiance);
-    if (!s.valid()) return false;
-    *w = s.wi;
-    Float p = lobe.pdf(wo, s.wi);
-    double pe = std::fabs(double(s.pdf) - double(p)) / std::max(double(p), 1e-30);
-    max_pdf_err = std::max(max_pdf_err, pe);
-    if (pe > 1e-3) ++pdf_mismatch;
-    SampledSpectrum f = lobe.eval(wo, s.wi, TransportMode::Radiance);
-    for (int i = 0; i < kSpectrumSamples; ++i) {
-      double fe = std::fabs(double(s.f[i]) - double(f[i])) / std::max(double(f[i]), 1e-30);
-      max_f_err = std::max(max_f_err, fe);
-      if (fe > 1e-3) {
-        ++f_mismatch;
-        break;
-      }
-    }
-    return true;
-  };
-  SphereChi2Config cfg;
-  cfg.name = name;
-  cfg.forced_cos = {0};
-  cfg.seed = seed;
-  cfg.samples = samples;
-  EXPECT_TRUE(test::sphere_chi2(sample, [&](Vec3 w) { return double(lobe.pdf(wo, w)); }, cfg));
-  EXPECT_EQ(f_mismatch, 0) << name << ": sample().f != eval(), max rel. error " << max_f_err;
-  EXPECT_EQ(pdf_mismatch, 0) << name << ": sample().pdf != pdf(), max rel. error " << max_pdf_err;
 }
 
 // ---------------------------------------------------------------- sampling vs pdf

@@ -51,7 +51,7 @@ Transform compose(const Transform& a, const Transform& b) {
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 4; ++c) {
       double v = c == 3 ? double(a.m[r][3]) : 0.0;
-      for (int k = 0; k < 3; ++k) v += double(a.m[r][k]) * b.m[k][c];
+      for (int k = 0; k < 3; ++k) v += double(a.m[r][k]) * double(b.m[k][c]);
       rows[r][c] = v;
     }
   Transform t;
