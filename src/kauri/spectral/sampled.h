@@ -109,11 +109,17 @@ struct SampledWavelengths {
   /// Four wavelengths stratified in the CDF of the visible density (rotation
   /// of the hero sample by 1/4 in primary sample space).
   KAURI_HOST_DEVICE static SampledWavelengths sample_visible(Float u) {
+    return sample_stratified(u, [](Float ui, Float* pdf) { return sample_visible_wavelength(ui, pdf); });
+  }
+  /// The N wavelengths of any inverse CDF `sample(u, &pdf)`: the hero at u, wavelength i
+  /// at u + i/N (mod 1), each with its density.
+  template <class Sample1D>
+  KAURI_HOST_DEVICE static SampledWavelengths sample_stratified(Float u, const Sample1D& sample) {
     SampledWavelengths w;
     for (int i = 0; i < kSpectrumSamples; ++i) {
       Float ui = u + Float(i) / kSpectrumSamples;
       if (ui >= 1) ui -= 1;
-      w.lambda[i] = sample_visible_wavelength(ui, &w.pdf[i]);
+      w.lambda[i] = sample(ui, &w.pdf[i]);
     }
     return w;
   }

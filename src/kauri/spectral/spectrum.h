@@ -132,13 +132,6 @@ struct Spectrum {
       case SpectrumType::RGBUnbounded:
         for (int i = 0; i < kSpectrumSamples; ++i) s[i] = rgb.scale * rgb.poly(w.lambda[i]);
         return s;
-      case SpectrumType::RGBIlluminant:
-        for (int i = 0; i < kSpectrumSamples; ++i)
-          s[i] = rgb.scale * rgb.poly(w.lambda[i]) * rgb.illuminant(w.lambda[i]);
-        return s;
-      case SpectrumType::DenselySampled:
-        for (int i = 0; i < kSpectrumSamples; ++i) s[i] = dense(w.lambda[i]);
-        return s;
       default:
         for (int i = 0; i < kSpectrumSamples; ++i) s[i] = (*this)(w.lambda[i]);
         return s;

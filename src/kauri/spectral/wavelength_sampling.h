@@ -52,13 +52,7 @@ struct WavelengthDistribution {
 /// N wavelengths stratified in the CDF (the hero at u, the others at u + i/N), each
 /// with its density.
 KAURI_HOST_DEVICE inline SampledWavelengths sample_wavelengths(const WavelengthDistribution& d, Float u) {
-  SampledWavelengths w;
-  for (int i = 0; i < kSpectrumSamples; ++i) {
-    Float ui = u + Float(i) / kSpectrumSamples;
-    if (ui >= 1) ui -= 1;
-    w.lambda[i] = d.sample(ui, &w.pdf[i]);
-  }
-  return w;
+  return SampledWavelengths::sample_stratified(u, [&d](Float ui, Float* pdf) { return d.sample(ui, pdf); });
 }
 
 // ---- host (wavelength_sampling.cpp) ----
