@@ -27,7 +27,8 @@ KAURI_HOST_DEVICE inline SampledSpectrum material_emission(const SceneView& s, i
 KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const PathState& st, int light,
                                                   Vec3 wi, Point3 p_light, Normal3 n_light) {
   if (st.depth == 0 || st.specular_bounce) return 1;
-  Float p_light_solid = s.light_pmf(light) * light_pdf(s.lights[light], st.prev_p, wi, p_light, n_light);
+  Float p_light_solid =
+      s.light_pmf(light) * light_pdf(s.lights[light], st.prev_p, wi, p_light, n_light, kNextEventDensity);
   return power_heuristic(st.prev_pdf, p_light_solid);
 }
 
@@ -42,7 +43,7 @@ KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel&
   int li = s.light_distribution.sample_discrete(u_light, &pmf);
   if (pmf <= 0) return SampledSpectrum(0);
   const Light& light = s.lights[li];
-  LightSample ls = sample_light(light, hit.p, u, lambda);
+  LightSample ls = sample_light(light, hit.p, u, lambda, kNextEventDensity);
   if (light.material >= 0 && ls.pdf > 0) ls.L = material_emission(s, light.material, ls.n_light, -ls.wi, lambda);
   if (!(ls.pdf > 0) || ls.L.is_black()) return SampledSpectrum(0);
   SampledSpectrum f = bsdf.eval(wo, ls.wi, TransportMode::Radiance) * absdot(ls.wi, bsdf.frame.z);

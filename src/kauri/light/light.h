@@ -21,6 +21,15 @@ struct EnvTexel {
   Float scale, c0, c1, c2;
 };
 
+/// Which density NEE draws from an environment. `Complete` covers every direction with
+/// radiance, as a light sampled on its own must. `Compensated` is for a path tracer that
+/// combines NEE with BSDF sampling by MIS: BSDF sampling already covers the dim part of an
+/// environment, so the light's density is max(0, L − L̄) (MIS compensation, Karlík et al.
+/// 2019, sec. 4; pbrt-v4's allowIncompletePDF) and a constant environment has none at all.
+enum class LightDensity : uint8_t { Complete, Compensated };
+/// The density the path tracer's NEE uses; light selection (scene compile) agrees with it.
+inline constexpr LightDensity kNextEventDensity = LightDensity::Compensated;
+
 struct LightSample {
   SampledSpectrum L;   // incident radiance (or intensity/r², irradiance for delta lights)
   Vec3 wi;             // unit direction from the reference point to the light
@@ -49,7 +58,8 @@ struct Light {
   const EnvTexel* texels = nullptr;
   DenselySampled illuminant{nullptr, 360, 1, 0};  // working-space white (Y = 1)
   int width = 0, height = 0;
-  Distribution2D distribution;
+  Distribution2D distribution;   // LightDensity::Complete
+  Distribution2D compensated;    // LightDensity::Compensated (empty: NEE never samples this light)
 
   KAURI_HOST_DEVICE bool is_infinite() const {
     return type == LightType::Distant || type == LightType::EnvConstant || type == LightType::EnvMap;
@@ -144,8 +154,17 @@ KAURI_HOST_DEVICE inline Float area_to_solid_angle(Float pdf_area, Point3 p, Poi
   return c > 0 ? pdf_area * d2 / c : 0;
 }
 
-KAURI_HOST_DEVICE LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda);
-KAURI_HOST_DEVICE Float light_pdf(const Light& l, Point3 p, Vec3 wi, Point3 p_light, Normal3 n_light);
+KAURI_HOST_DEVICE LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda,
+                                           LightDensity density = LightDensity::Complete);
+KAURI_HOST_DEVICE Float light_pdf(const Light& l, Point3 p, Vec3 wi, Point3 p_light, Normal3 n_light,
+                                  LightDensity density = LightDensity::Complete);
+/// Whether NEE with `density` can sample `l` at all (light selection gives it no share otherwise).
+KAURI_HOST_DEVICE inline bool has_light_density(const Light& l, LightDensity density) {
+  if (density == LightDensity::Complete) return true;
+  if (l.type == LightType::EnvConstant) return false;
+  if (l.type == LightType::EnvMap) return l.compensated.marginal.integral > 0;
+  return true;
+}
 
 }  // namespace kauri
 

@@ -69,15 +69,18 @@ KAURI_HOST_DEVICE inline LightSample sample_area(const Light& l, Point3 p, Vec2 
   return s;
 }
 
-KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda) {
+KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda,
+                                                LightDensity density) {
   LightSample s;
   s.infinite = true;
+  if (!has_light_density(l, density)) return s;
   if (l.type == LightType::EnvConstant) {
     s.wi = sample_uniform_sphere(u);
     s.pdf = uniform_sphere_pdf();
   } else {
+    const Distribution2D& d = density == LightDensity::Compensated ? l.compensated : l.distribution;
     Float pdf_uv;
-    Vec2 uv = l.distribution.sample(u, &pdf_uv);
+    Vec2 uv = d.sample(u, &pdf_uv);
     Float sin_theta = std::sin(uv.y * kPi);
     if (pdf_uv == 0 || sin_theta == 0) return s;
     s.wi = l.frame.to_world(latlong_to_direction(uv));
@@ -90,7 +93,8 @@ KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u
 
 }  // namespace light_detail
 
-KAURI_HOST_DEVICE inline LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda) {
+KAURI_HOST_DEVICE inline LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda,
+                                                  LightDensity density) {
   LightSample s;
   switch (l.type) {
     case LightType::Point:
@@ -133,14 +137,16 @@ KAURI_HOST_DEVICE inline LightSample sample_light(const Light& l, Point3 p, Vec2
     case LightType::Disk: return light_detail::sample_area(l, p, u, lambda);
     case LightType::Sphere: return light_detail::sample_sphere(l, p, u, lambda);
     case LightType::EnvConstant:
-    case LightType::EnvMap: return light_detail::sample_env(l, p, u, lambda);
+    case LightType::EnvMap: return light_detail::sample_env(l, p, u, lambda, density);
   }
   return s;
 }
 
 /// Solid-angle density with which sample_light() would have produced direction
 /// `wi` from `p`; `p_light`/`n_light` describe where that direction meets an area light.
-KAURI_HOST_DEVICE inline Float light_pdf(const Light& l, Point3 p, Vec3 wi, Point3 p_light, Normal3 n_light) {
+KAURI_HOST_DEVICE inline Float light_pdf(const Light& l, Point3 p, Vec3 wi, Point3 p_light, Normal3 n_light,
+                                        LightDensity density) {
+  if (!has_light_density(l, density)) return 0;
   switch (l.type) {
     case LightType::Triangle:
     case LightType::Disk: return area_to_solid_angle(1 / l.area, p, p_light, n_light);
@@ -157,7 +163,8 @@ KAURI_HOST_DEVICE inline Float light_pdf(const Light& l, Point3 p, Vec3 wi, Poin
       Vec2 uv = direction_to_latlong(l.frame.to_local(wi));
       Float sin_theta = std::sin(uv.y * kPi);
       if (sin_theta == 0) return 0;
-      return l.distribution.pdf(uv) / (2 * kPi * kPi * sin_theta);
+      const Distribution2D& d = density == LightDensity::Compensated ? l.compensated : l.distribution;
+      return d.pdf(uv) / (2 * kPi * kPi * sin_theta);
     }
     default: return 0;
   }

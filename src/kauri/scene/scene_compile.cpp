@@ -220,6 +220,10 @@ void CompiledScene::build_lights(const Scene& scene, const RGBColorSpace& cs) {
         weight = env_importance(lum, w, h);
         env_distributions_.push_back(std::make_unique<Distribution2DStorage>(weight, w, h));
         l.distribution = env_distributions_.back()->view();
+        bytes_ += env_distributions_.back()->bytes();
+        env_distributions_.push_back(
+            std::make_unique<Distribution2DStorage>(env_importance_compensated(lum, w, h), w, h));
+        l.compensated = env_distributions_.back()->view();
         l.width = w;
         l.height = h;
         l.illuminant = *cs.illuminant;
@@ -423,13 +427,17 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   // Light selection: finite lights in proportion to their power; each infinite light
   // (environment, distant) gets the same share as all finite lights together (as
   // pbrt-v4's BVH light sampler does). An environment's "power" grows with the scene's
-  // bounding sphere and would otherwise starve small bright lights of samples.
+  // bounding sphere and would otherwise starve small bright lights of samples. A light
+  // that NEE does not sample (a constant environment, whose MIS-compensated density is
+  // empty: BSDF sampling alone covers it) gets no share, so no NEE sample is spent on it.
   if (!c.lights_.empty()) {
     double finite_total = 0;
     for (size_t i = 0; i < power.size(); ++i)
       if (!c.lights_[i].is_infinite()) finite_total += double(power[i]);
-    for (size_t i = 0; i < power.size(); ++i)
+    for (size_t i = 0; i < power.size(); ++i) {
+      if (!has_light_density(c.lights_[i], kNextEventDensity)) power[i] = 0;
       if (c.lights_[i].is_infinite() && power[i] > 0) power[i] = finite_total > 0 ? Float(finite_total) : Float(1);
+    }
     Float total = 0;
     for (Float p : power) total += p;
     if (total > 0) c.light_distribution_ = Distribution1DStorage(power);
