@@ -5,6 +5,7 @@
 #pragma once
 
 #include "kauri/bsdf/lobe.h"
+#include "kauri/core/scratch_array.h"
 
 namespace kauri {
 
@@ -15,7 +16,7 @@ struct BSDF {
   Normal3 ng;       // geometric normal (world)
   int n_lobes = 0;
   Lobe lobes[kMaxLobes];
-  SampledSpectrum weight[kMaxLobes];  // spectral: a tinted stack tints what lies below it
+  ScratchArray<SampledSpectrum, kMaxLobes> weight;  // spectral: a tinted stack tints what lies below it
   Float transmission[kMaxLobes];      // fraction of a lobe's transmission leaving the stack (coat tops: less)
   Float select_prob[kMaxLobes];       // set by prepare()
 

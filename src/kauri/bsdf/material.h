@@ -209,7 +209,7 @@ KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const Lob
     if (!params[i].emission && lobes[i].type == LobeType::GGXConductor) lobes[i].conductor.cache_multiple_scattering();
 
   Vec3 wo = frame.to_local(wo_world);
-  SampledSpectrum w[kMaxLayerNodes];
+  ScratchArray<SampledSpectrum, kMaxLayerNodes> w;
   Float transmission[kMaxLayerNodes];
   if (prog.n_nodes == 1) {
     // A single lobe: its weight is its own w_b (the common case; no program to run).
@@ -220,10 +220,9 @@ KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const Lob
     for (int i = 0; i < prog.n_nodes; ++i) in.node_weight[i] = clamp(node_weights[m.first_weight + i].eval(sp.attrs), 0, 1);
     // Only coat reads the stopped albedos a_b = 1 − a_t (eq. 5); an EDF stops no light
     // (a_t = 1): a layer under it is fully lit, one above it dims it.
-    if (m.has_coat)
-      for (int i = 0; i < n; ++i)
-        in.lobe_stopped[i] = params[i].emission ? SampledSpectrum(0) : SampledSpectrum(1) - lobes[i].albedo_t(wo);
-    evaluate_layer_weights(prog, in, w, transmission);
+    for (int i = 0; i < n; ++i)
+      in.lobe_stopped[i] = !m.has_coat || params[i].emission ? SampledSpectrum(0) : SampledSpectrum(1) - lobes[i].albedo_t(wo);
+    evaluate_layer_weights(prog, in, w.data(), transmission);
   }
   for (int i = 0; i < n; ++i) {
     if (params[i].emission) {

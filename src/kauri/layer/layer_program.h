@@ -8,6 +8,7 @@
 // layouts across materials are stored once; weights live with each material.
 #pragma once
 
+#include "kauri/core/scratch_array.h"
 #include "kauri/spectral/sampled.h"
 
 namespace kauri {
@@ -35,7 +36,7 @@ struct LayerProgram {
 /// Inputs of one program evaluation.
 struct LayerInputs {
   Float node_weight[kMaxLayerNodes];   // w_b for lobe nodes, w_l for operator nodes
-  SampledSpectrum lobe_stopped[kMaxLayerNodes];  // per lobe: a_b = a_r + a_a = 1 − a_t at ω_o (eq. 5)
+  ScratchArray<SampledSpectrum, kMaxLayerNodes> lobe_stopped;  // per lobe: a_b = a_r + a_a = 1 − a_t at ω_o (eq. 5)
 };
 
 /// Evaluates the weight program: `lobe_weight[k]` receives the final weight of lobe k,
@@ -58,8 +59,8 @@ struct LayerInputs {
 /// then passes through the top instead of reaching a base that is not there).
 KAURI_HOST_DEVICE inline void evaluate_layer_weights(const LayerProgram& p, const LayerInputs& in,
                                                      SampledSpectrum* lobe_weight, Float* lobe_transmission) {
-  SampledSpectrum mult[kMaxLayerNodes];     // multiplier each node receives from its parent
-  SampledSpectrum stopped[kMaxLayerNodes];  // a_b of each node as an input (per unit presence)
+  ScratchArray<SampledSpectrum, kMaxLayerNodes> mult;     // multiplier each node receives from its parent
+  ScratchArray<SampledSpectrum, kMaxLayerNodes> stopped;  // a_b of each node as an input (per unit presence)
   const int root = p.n_nodes - 1;
   // Bottom-up: each operator's input multipliers and its own stopped albedo.
   for (int i = 0; i < p.n_nodes; ++i) {
@@ -100,7 +101,7 @@ KAURI_HOST_DEVICE inline void evaluate_layer_weights(const LayerProgram& p, cons
     stopped[i] = s;
   }
   // Top-down: accumulate multipliers from the root.
-  SampledSpectrum acc[kMaxLayerNodes];
+  ScratchArray<SampledSpectrum, kMaxLayerNodes> acc;
   Float trans[kMaxLayerNodes];
   acc[root] = SampledSpectrum(p.nodes[root].op == LayerOp::Lobe ? in.node_weight[root] : Float(1));
   trans[root] = 1;
