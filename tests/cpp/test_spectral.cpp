@@ -163,6 +163,21 @@ TEST(Spectral, WhiteAndBlackAlbedoAreFlat) {
   }
 }
 
+// Greys are stored as constant spectra, with exactly the values the sigmoid gives;
+// colours keep their sigmoid polynomial.
+TEST(Spectral, GreyAlbedoIsConstantAndExact) {
+  const RGBColorSpace& cs = color_space(ColorSpaceId::LinearSRGB);
+  const SampledWavelengths lambda = SampledWavelengths::sample_visible(0.37f);
+  for (Float g : {0.0f, 0.18f, 0.4f, 0.73f, 1.0f}) {
+    Spectrum s = rgb_albedo(cs, {g, g, g});
+    ASSERT_EQ(s.type, SpectrumType::Constant) << g;
+    Spectrum poly = Spectrum::make_rgb_albedo((*cs.table)({g, g, g}));
+    SampledSpectrum a = s.sample(lambda), b = poly.sample(lambda);
+    for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_EQ(a[i], b[i]) << g;
+  }
+  EXPECT_EQ(rgb_albedo(cs, {0.6f, 0.4f, 0.4f}).type, SpectrumType::RGBAlbedo);
+}
+
 // ---------------------------------------------------------------- (d) white illuminant
 TEST(Spectral, WhiteIlluminantIsSpaceWhite) {
   for (ColorSpaceId id : {ColorSpaceId::LinearSRGB, ColorSpaceId::ACEScg}) {

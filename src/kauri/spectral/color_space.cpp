@@ -93,7 +93,12 @@ const RGBColorSpace& color_space(ColorSpaceId id) {
 }
 
 Spectrum rgb_albedo(const RGBColorSpace& cs, Vec3 rgb) {
-  return Spectrum::make_rgb_albedo((*cs.table)(rgb));  // the table clamps to [0,1]
+  SigmoidPolynomial p = (*cs.table)(rgb);  // the table clamps to [0,1]
+  // A grey's polynomial is the constant c2 (RGBToSpectrumTable::grey), so its spectrum
+  // is the constant s(c2): stored as such, a hit skips four sigmoid evaluations, with
+  // bit-identical values (greys are the common case: white walls, grey floors).
+  if (p.c0 == 0 && p.c1 == 0) return Spectrum::make_constant(SigmoidPolynomial::sigmoid(p.c2));
+  return Spectrum::make_rgb_albedo(p);
 }
 
 Spectrum rgb_unbounded(const RGBColorSpace& cs, Vec3 rgb) {
