@@ -1,5 +1,6 @@
 // nanobind module kauri._core: the host scene API, render(), and image output.
 // The friendly, keyword-checked API lives in python/kauri/; this layer is thin.
+#include <chrono>
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/optional.h>
@@ -30,6 +31,23 @@ std::vector<float> to_vector(const FloatArray& a) { return std::vector<float>(a.
 EmissionDesc emission(Vec3T color, float intensity, float temperature, bool two_sided) {
   return EmissionDesc{v3(color), temperature, intensity, two_sided};
 }
+
+/// Fetches a scene's compiled form (reused while the scene is unchanged) and records in
+/// a render's stats how long compiling took, or that it was reused.
+struct CompileTimer {
+  double seconds = 0;
+  bool reused = false;
+  std::shared_ptr<const CompiledScene> get(const Scene& scene, int width, int height) {
+    auto t0 = std::chrono::steady_clock::now();
+    auto c = scene.compiled(width, height, &reused);
+    seconds = reused ? 0 : std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return c;
+  }
+  void record(RenderStats* stats) const {
+    stats->compile_seconds = seconds;
+    stats->scene_reused = reused;
+  }
+};
 
 void read_matrix(const FloatArray& m, const std::string& what, double out[3][4]) {
   if (!((m.ndim() == 2 && (m.shape(0) == 3 || m.shape(0) == 4) && m.shape(1) == 4)))
@@ -334,6 +352,8 @@ NB_MODULE(_core, m) {
         d["materials"] = s.materials;
         d["layer_layouts"] = s.layer_layouts;
         d["peak_rss_bytes"] = s.peak_rss_bytes;
+        d["compile_seconds"] = s.compile_seconds;
+        d["scene_reused"] = s.scene_reused;
         d["summary"] = s.summary();
         return d;
       })
@@ -358,8 +378,10 @@ NB_MODULE(_core, m) {
     auto* out = new PyRenderResult{{}, scene.color_space_id(), seed};
     try {
       nb::gil_scoped_release release;
-      auto compiled = scene.compile(width, height);
+      CompileTimer timer;
+      auto compiled = timer.get(scene, width, height);
       out->r = render(*compiled, cfg);
+      timer.record(&out->r.stats);
     } catch (...) {
       delete out;
       throw;
@@ -381,8 +403,10 @@ NB_MODULE(_core, m) {
     RenderStats stats;
     {
       nb::gil_scoped_release release;
-      auto compiled = scene.compile(width, height);
+      CompileTimer timer;
+      auto compiled = timer.get(scene, width, height);
       stats = render(*compiled, cfg).stats;  // the real render, multi-threaded, timed as usual
+      timer.record(&stats);
       log = record_rays(*compiled, cfg, max_rays);
       rep = replay_rays(compiled->accel(), log, threads, repeats);
     }

@@ -259,7 +259,9 @@ std::string RenderStats::summary() const {
   os << "render time " << format_duration(seconds) << " (" << seconds << " s), " << spp << " spp, "
      << format_rate(samples_per_second()) << " samples/s, " << rays << " rays, " << format_rate(rays_per_second())
      << " rays/s, scene " << (scene_bytes >> 20) << " MiB, peak memory " << (peak_rss_bytes >> 20) << " MiB, "
-     << materials << " materials sharing " << layer_layouts << " layer layouts";
+     << materials << " materials sharing " << layer_layouts << " layer layouts, "
+     << (scene_reused ? std::string("compiled scene reused")
+                      : "scene compiled in " + std::to_string(compile_seconds) + " s");
   if (nan_samples) {
     os << "\nwarning: " << nan_samples << " non-finite samples discarded, first at pixel";
     for (size_t i = 0; i < nan_pixels.size() && i < 4; ++i)

@@ -43,6 +43,8 @@ struct RenderStats {
   size_t scene_bytes = 0;
   int materials = 0, layer_layouts = 0;  // distinct layer-program layouts (shared ones count once)
   size_t peak_rss_bytes = 0;
+  double compile_seconds = 0;  // scene compile (BVH, lights) before the render; 0 when reused
+  bool scene_reused = false;   // the compiled scene of an earlier render was reused (Scene::compiled)
   double samples_per_second() const { return seconds > 0 ? double(samples) / seconds : 0; }
   double rays_per_second() const { return seconds > 0 ? double(rays) / seconds : 0; }
   std::string summary() const;

@@ -124,6 +124,7 @@ void check_lobe(const std::string& obj, const LobeDesc& m) {
 }  // namespace
 
 int Scene::add_texture(TextureDesc t) {
+  ++revision_;  // any change invalidates the compiled-scene cache
   std::string obj = quoted("texture", t.name);
   if (t.width <= 0 || t.height <= 0) fail(obj, "image", "must have at least one texel");
   if (!t.texels || t.texels->size() != size_t(t.width) * size_t(t.height) * 3)
@@ -153,6 +154,7 @@ void Scene::check_texture_use(const std::string& obj, const LobeDesc& l) const {
 }
 
 int Scene::add_material(const MaterialDesc& m) {
+  ++revision_;  // any change invalidates the compiled-scene cache
   for (const LobeDesc& l : m.lobes) {
     // Single-lobe materials keep the short form "material 'x'" in messages.
     std::string obj = m.lobes.size() == 1 && m.layers.empty() ? quoted("material", m.name)
@@ -168,11 +170,13 @@ int Scene::add_material(const MaterialDesc& m) {
 }
 
 int Scene::add_group(const std::string& name) {
+  ++revision_;  // any change invalidates the compiled-scene cache
   groups_.push_back(Group{name, {}});
   return int(groups_.size()) - 1;
 }
 
 int Scene::add_instance(const std::string& name, int group, const double xf[3][4]) {
+  ++revision_;  // any change invalidates the compiled-scene cache
   std::string obj = quoted("instance", name);
   if (group <= 0 || group >= int(groups_.size()))
     fail(obj, "group", "must name a prototype group created with add_group, got " + std::to_string(group));
@@ -186,6 +190,7 @@ int Scene::add_instance(const std::string& name, int group, const double xf[3][4
 }
 
 int Scene::add_mesh(int group, MeshDesc m) {
+  ++revision_;  // any change invalidates the compiled-scene cache
   std::string obj = quoted("mesh", m.name);
   check_group(group, obj);
   check_material(m.material, obj);
@@ -247,6 +252,7 @@ int Scene::add_mesh(int group, MeshDesc m) {
 }
 
 int Scene::add_sphere(int group, const SphereDesc& d) {
+  ++revision_;  // any change invalidates the compiled-scene cache
   std::string obj = quoted("sphere", d.name);
   check_group(group, obj);
   check_material(d.material, obj);
@@ -266,6 +272,7 @@ int Scene::add_sphere(int group, const SphereDesc& d) {
 }
 
 int Scene::add_disk(int group, const DiskDesc& d) {
+  ++revision_;  // any change invalidates the compiled-scene cache
   std::string obj = quoted("disk", d.name);
   check_group(group, obj);
   check_material(d.material, obj);
@@ -288,6 +295,7 @@ int Scene::add_disk(int group, const DiskDesc& d) {
 }
 
 int Scene::add_light(const LightDesc& l) {
+  ++revision_;  // any change invalidates the compiled-scene cache
   std::string obj = quoted("light", l.name);
   check_emission(obj, l.emission);
   check_finite(obj, "position", l.position);
@@ -315,6 +323,7 @@ int Scene::add_light(const LightDesc& l) {
 }
 
 void Scene::set_camera(const CameraDesc& c) {
+  ++revision_;  // any change invalidates the compiled-scene cache
   std::string obj = "camera";
   check_finite(obj, "eye", c.eye);
   check_finite(obj, "target", c.target);

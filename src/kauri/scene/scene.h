@@ -8,6 +8,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -115,7 +116,10 @@ struct StandaloneMaterial {
 class Scene {
  public:
   Scene();
-  void set_color_space(ColorSpaceId id) { color_space_ = id; }
+  void set_color_space(ColorSpaceId id) {
+    color_space_ = id;
+    ++revision_;
+  }
   ColorSpaceId color_space_id() const { return color_space_; }
 
   int add_texture(TextureDesc t);  // returns its id, which LobeDesc::albedo_texture refers to
@@ -130,6 +134,13 @@ class Scene {
 
   /// Builds the render-time scene for an image of width × height pixels.
   std::unique_ptr<CompiledScene> compile(int width, int height) const;
+  /// The same, kept and handed out again while the scene is unchanged (every add_* and
+  /// set_* call changes it) and the image size is the same: renders after the first skip
+  /// the BVH build and light preparation, as an interactive session re-rendering at more
+  /// samples expects (on a million triangles the build takes longer than a preview).
+  /// Thread-safe; the compiled scene lives until the Scene is changed or destroyed and no
+  /// render still holds it.
+  std::shared_ptr<const CompiledScene> compiled(int width, int height, bool* reused = nullptr) const;
 
   size_t material_count() const { return materials_.size(); }
   /// Warnings raised while adding materials (e.g. an 'add' turned into a 'coat').
@@ -170,6 +181,20 @@ class Scene {
   std::vector<LightDesc> lights_;
   CameraDesc camera_;
   bool has_camera_ = false;
+
+  /// The last compiled scene and what it was compiled from. Copies of a Scene start
+  /// with an empty cache (the mutex is not copyable, and a copy is a new scene).
+  struct CompileCache {
+    std::mutex mutex;
+    std::shared_ptr<const CompiledScene> scene;
+    uint64_t revision = 0;
+    int width = 0, height = 0;
+    CompileCache() = default;
+    CompileCache(const CompileCache&) {}
+    CompileCache& operator=(const CompileCache&) { return *this; }
+  };
+  uint64_t revision_ = 0;  // bumped by every change to the scene
+  mutable CompileCache cache_;
 };
 
 /// Render-ready scene: owns every array the SceneView points into.

@@ -238,6 +238,20 @@ void CompiledScene::build_lights(const Scene& scene, const RGBColorSpace& cs) {
   }
 }
 
+std::shared_ptr<const CompiledScene> Scene::compiled(int width, int height, bool* reused) const {
+  std::lock_guard<std::mutex> lock(cache_.mutex);
+  const bool stale = !cache_.scene || cache_.revision != revision_ || cache_.width != width || cache_.height != height;
+  if (reused) *reused = !stale;
+  if (stale) {
+    cache_.scene.reset();  // free the old one before building the next
+    cache_.scene = compile(width, height);
+    cache_.revision = revision_;
+    cache_.width = width;
+    cache_.height = height;
+  }
+  return cache_.scene;
+}
+
 std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   if (width <= 0 || height <= 0) throw std::invalid_argument("render: parameter 'resolution': must be positive");
   if (!has_camera_) throw std::invalid_argument("scene: no camera; call set_camera() first");
