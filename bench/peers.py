@@ -1,7 +1,7 @@
 """Export neutral scene descriptions (bench/scenes) to kauri and to Mitsuba 3 and render
 them side by side. Only features both renderers model the same way are used: Lambertian
-quads (optionally with a bilinear image texture), one-sided diffuse area lights, a pinhole
-camera, a Gaussian pixel filter."""
+quads (optionally with a bilinear image texture) and flat-shaded triangle meshes, one-sided
+diffuse area lights, a pinhole camera, a Gaussian pixel filter."""
 from __future__ import annotations
 
 import numpy as np
@@ -46,6 +46,10 @@ def to_kauri(desc) -> kauri.Scene:
         if "sphere" in sh:
             (center, radius) = sh["sphere"]
             s.add_sphere(center=center, radius=radius, material=_kauri_material(sh), name=sh["name"])
+            continue
+        if "mesh" in sh:
+            (P, F) = sh["mesh"]
+            s.add_mesh(P, F, material=_kauri_material(sh), name=sh["name"])
             continue
         P = np.array(sh["quad"], np.float32)
         I = np.array([[0, 1, 2, 3]])
@@ -117,6 +121,12 @@ def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65):
             d[sh["name"]] = {"type": "sphere", "center": list(map(float, center)), "radius": float(radius),
                              "bsdf": _mitsuba_bsdf(sh)}
             continue
+        if "mesh" in sh:
+            # Flat shading in both: kauri's meshes without normals use the face normal;
+            # Mitsuba's PLY loader would interpolate vertex normals unless told not to.
+            d[sh["name"]] = {"type": "ply", "filename": _ply_file(*sh["mesh"]), "face_normals": True,
+                             "bsdf": {"type": "twosided", "bsdf": _mitsuba_bsdf(sh)}}
+            continue
         shape = {"type": "rectangle", "to_world": mi.ScalarTransform4f(_rectangle_to_world(sh["quad"]).tolist())}
         if "emission" in sh:
             shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": list(sh["emission"])}}
@@ -131,6 +141,33 @@ def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65):
     return d
 
 
+def _ply_file(positions, triangles):
+    """A binary PLY of the mesh for Mitsuba's loader, in the temporary directory, named by
+    a hash of its contents (written once, atomically; later calls reuse it)."""
+    import hashlib
+    import os
+    import tempfile
+    P = np.ascontiguousarray(positions, "<f4")
+    F = np.ascontiguousarray(triangles, "<i4")
+    key = hashlib.sha1(P.tobytes() + F.tobytes()).hexdigest()[:16]
+    path = os.path.join(tempfile.gettempdir(), f"kauri_peers_{key}.ply")
+    if os.path.exists(path):
+        return path
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(P)}\n"
+              "property float x\nproperty float y\nproperty float z\n"
+              f"element face {len(F)}\nproperty list uchar int vertex_indices\nend_header\n").encode()
+    faces = np.empty(len(F), dtype=[("n", "u1"), ("v", "<i4", (3,))])
+    faces["n"] = 3
+    faces["v"] = F
+    fd, tmp = tempfile.mkstemp(dir=os.path.dirname(path), suffix=".ply.tmp")
+    with os.fdopen(fd, "wb") as f:
+        f.write(header)
+        f.write(P.tobytes())
+        f.write(faces.tobytes())
+    os.replace(tmp, path)
+    return path
+
+
 def render_mitsuba(desc, variant="scalar_rgb", spp=64, resolution=(64, 64), seed=0):
     import mitsuba as mi
     mi.set_variant(variant)
@@ -138,8 +175,21 @@ def render_mitsuba(desc, variant="scalar_rgb", spp=64, resolution=(64, 64), seed
     return np.array(mi.render(scene, seed=seed), dtype=np.float64)
 
 
+_last_kauri_scene = (None, None)  # (description, its kauri.Scene)
+
+
+def kauri_scene(desc) -> kauri.Scene:
+    """The kauri scene of a description, kept for the next call with the same description
+    object: kauri.render then reuses its compiled form (BVH, lights), as Mitsuba renders a
+    loaded scene again without rebuilding it."""
+    global _last_kauri_scene
+    if _last_kauri_scene[0] is not desc:
+        _last_kauri_scene = (desc, to_kauri(desc))
+    return _last_kauri_scene[1]
+
+
 def render_kauri(desc, spp=64, resolution=(64, 64), seed=0):
     # The beauty alone, like Mitsuba's film here (kauri's albedo / normal / depth AOVs are not compared).
-    out = kauri.render(to_kauri(desc), spp=spp, resolution=resolution, seed=seed, max_depth=64, max_diffuse=64,
+    out = kauri.render(kauri_scene(desc), spp=spp, resolution=resolution, seed=seed, max_depth=64, max_diffuse=64,
                        max_glossy=64, max_transmission=64, aovs=False)
     return out.rgba[:, :, :3].astype(np.float64)
