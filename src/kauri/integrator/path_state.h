@@ -31,11 +31,16 @@ struct PathState {
   int diffuse_depth = 0, glossy_depth = 0, transmission_depth = 0;
   bool specular_bounce = false;  // last event was a delta lobe (no MIS on the emitter hit)
   bool any_non_specular = false;
+  // A bounce budget ran out at the last scattering event: the ray it sampled is still
+  // traced, for the emission it finds (the BSDF half of that vertex's MIS-weighted direct
+  // light, as Cycles' "terminate on next surface"), and the path ends at its next hit.
+  bool last_segment = false;
   Float prev_pdf = 0;          // BSDF pdf of the last bounce, for MIS on hit emitters
   Point3 prev_p;               // where the last bounce happened
   uint32_t lpe_state = 0;      // reserved for the LPE automaton
 
-  /// Counts an event against the bounce budgets; false when a budget is exhausted.
+  /// Counts an event against the bounce budgets; false when this event exceeds one (the
+  /// caller then traces its ray for emission only: `last_segment`).
   KAURI_HOST_DEVICE bool record_scatter(const BSDFSample& s, const IntegratorSettings& cfg) {
     if (s.transmission) ++transmission_depth;
     else if (s.scattering == Scattering::Diffuse) ++diffuse_depth;

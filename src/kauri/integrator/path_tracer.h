@@ -103,7 +103,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
       out->albedo = bsdf.albedo(frame.to_local(wo));
       out->albedo_set = true;
     }
-    if (st.depth >= cfg.max_depth) break;
+    if (st.depth >= cfg.max_depth || st.last_segment) break;
 
     // Dimension layout of a bounce: light point (2D), light choice and lobe choice (one
     // pair), BSDF direction (2D), Russian roulette (1D). Values a vertex does not use
@@ -128,7 +128,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     st.prev_p = hit.p;
     if (bs.transmission) st.eta_scale *= sqr(bs.eta);
     ++st.depth;
-    if (!st.record_scatter(bs, cfg)) break;
+    if (!st.record_scatter(bs, cfg)) st.last_segment = true;
 
     // Russian roulette on the throughput, with radiance-scale from refraction removed.
     if (st.depth < cfg.rr_min_depth) {

@@ -1,0 +1,58 @@
+"""Per-type bounce budgets end a path MIS-correctly: the scattering event that exceeds a
+budget still traces its ray for the emission it finds (the BSDF half of that vertex's direct
+light), then the path stops. So `max_diffuse=0` is direct lighting on diffuse surfaces, no
+darker; on an all-diffuse scene it is exactly `max_depth=1`, and likewise for the glossy and
+transmission budgets on scenes of one kind."""
+import numpy as np
+import pytest
+
+import kauri
+
+from conftest import interior_mean
+
+
+def render(s, **kw):
+    return kauri.render(s, spp=16, resolution=(32, 32), seed=5, progress=False, aovs=False, **kw)
+
+
+def diffuse_room():
+    s = kauri.Scene(color_space="srgb")
+    quad = np.array([[0, 1, 2, 3]])
+    for name, pts, col in (("floor", [(-1, 0, 1), (1, 0, 1), (1, 0, -1), (-1, 0, -1)], (0.7, 0.7, 0.7)),
+                           ("back", [(-1, 0, -1), (1, 0, -1), (1, 2, -1), (-1, 2, -1)], (0.6, 0.5, 0.4)),
+                           ("left", [(-1, 0, 1), (-1, 0, -1), (-1, 2, -1), (-1, 2, 1)], (0.7, 0.2, 0.2))):
+        s.add_mesh(np.array(pts, np.float32), quad, material=kauri.Lambert(albedo=col, name=name), name=name)
+    s.add_mesh(np.array([(-0.3, 1.99, -0.3), (0.3, 1.99, -0.3), (0.3, 1.99, 0.3), (-0.3, 1.99, 0.3)], np.float32),
+               quad, emission=kauri.Emission(color=(1, 1, 1), intensity=10), name="lamp")
+    s.add_environment(color=(0.3, 0.35, 0.4))
+    s.set_camera(eye=(0, 1, 3.5), target=(0, 0.8, 0), fov=50)
+    return s
+
+
+def test_diffuse_budget_zero_is_direct_lighting():
+    s = diffuse_room()
+    direct = render(s, max_depth=1)
+    np.testing.assert_array_equal(render(s, max_diffuse=0).rgba, direct.rgba)
+    # ... and more diffuse bounces add light.
+    assert render(s, max_diffuse=2).rgba[..., :3].mean() > 1.05 * direct.rgba[..., :3].mean()
+
+
+def test_glossy_budget_zero_is_direct_lighting():
+    s = kauri.Scene(color_space="srgb")
+    s.add_sphere(center=(0, 0, 0), radius=1, material=kauri.Conductor(metal="Au", roughness=0.4, name="gold"),
+                 name="ball")
+    s.add_sphere(center=(1.6, 0, -0.5), radius=0.6, material=kauri.Conductor(metal="Cu", roughness=0.5, name="cu"),
+                 name="ball2")
+    s.add_environment(color=(0.8, 0.9, 1.0))
+    s.add_point_light(position=(2, 3, 2), intensity=30)
+    s.set_camera(eye=(0, 0.5, 4), target=(0.3, 0, 0), fov=50)
+    np.testing.assert_array_equal(render(s, max_glossy=0).rgba, render(s, max_depth=1).rgba)
+
+
+def test_diffuse_budget_zero_keeps_the_furnace_albedo(furnace_scene):
+    # A convex Lambertian sphere in a uniform environment shows ρ · L = ρ whatever the
+    # budget: all of its light is direct (environment light is found by BSDF sampling alone).
+    for budget in (0, 1, 6):
+        out = kauri.render(furnace_scene(kauri.Lambert(albedo=(0.5, 0.5, 0.5), name="m")), spp=64,
+                           resolution=(32, 32), max_diffuse=budget, progress=False, aovs=False)
+        np.testing.assert_allclose(interior_mean(out), 0.5, rtol=0.01)
