@@ -27,13 +27,14 @@ def blob_mesh(n_phi=1024, n_theta=512, radius=0.9, center=(0.0, 0.95, 0.0)):
     return pos, tris.astype(np.int32)
 
 
-def describe():
+def describe(n_phi=1024, n_theta=512):
+    """The scene; a coarser grid (n_phi × n_theta cells, two triangles each) for quick tests."""
     return {
         "name": "displaced",
         "color_space": "srgb",
         "shapes": [
             {"name": "floor", "quad": [(-5, 0, 5), (5, 0, 5), (5, 0, -5), (-5, 0, -5)], "diffuse": (0.45, 0.45, 0.45)},
-            {"name": "blob", "mesh": blob_mesh(), "diffuse": (0.7, 0.45, 0.3)},
+            {"name": "blob", "mesh": blob_mesh(n_phi, n_theta), "diffuse": (0.7, 0.45, 0.3)},
             {"name": "panel", "quad": [(-1.5, 3.5, -0.5), (-0.5, 3.5, -0.5), (-0.5, 3.5, 0.5), (-1.5, 3.5, 0.5)],
              "emission": (12.0, 12.0, 12.0)},
         ],

@@ -1,5 +1,5 @@
 """Agreement with Mitsuba 3 (scalar_spectral) on the Cornell box, a glossy scene, a textured
-scene and an environment-map scene: image means and coarse blocks must agree within noise, the noise
+scene, the many-light hangar, a triangle mesh and an environment-map scene: image means and coarse blocks must agree within noise, the noise
 estimated from independent renders of each."""
 import os
 import sys
@@ -24,15 +24,19 @@ def block_means(img, n=4, border=2):
     return img.reshape(n, h // n, n, w // n, 3).mean(axis=(1, 3))
 
 
-@pytest.mark.parametrize("scene", ["cornell", "glossy", "textured", "hangar"])
+@pytest.mark.parametrize("scene", ["cornell", "glossy", "textured", "hangar", "mesh"])
 def test_scene_agrees_with_mitsuba_within_noise(scene):
     # cornell: diffuse transport; glossy: single-scattering GGX gold (measured IOR) and
     # rough glass against Mitsuba's roughconductor / roughdielectric; textured: bilinear
     # image textures (a tiled checker floor, a striped wall) against Mitsuba's bitmap;
     # hangar: 144 small one-sided lamps and open quads seen from both sides (Mitsuba's
-    # BSDFs are black from behind, so peers wraps them in `twosided` like kauri's).
-    from scenes import glossy, hangar, textured
-    desc = {"cornell": cornell, "glossy": glossy, "textured": textured, "hangar": hangar}[scene].describe()
+    # BSDFs are black from behind, so peers wraps them in `twosided` like kauri's); mesh:
+    # the displaced-sphere scene at 9k triangles (PLY export, flat shading in both).
+    from scenes import displaced, glossy, hangar, textured
+    if scene == "mesh":
+        desc = displaced.describe(n_phi=96, n_theta=48)
+    else:
+        desc = {"cornell": cornell, "glossy": glossy, "textured": textured, "hangar": hangar}[scene].describe()
     res, spp, runs = (32, 32), 64, 16
     k = np.stack([block_means(peers.render_kauri(desc, spp, res, seed=s)) for s in range(runs)])
     m = np.stack([block_means(peers.render_mitsuba(desc, "scalar_spectral", spp, res, seed=s)) for s in range(runs)])
