@@ -182,8 +182,9 @@ class Scene {
   CameraDesc camera_;
   bool has_camera_ = false;
 
-  /// The last compiled scene and what it was compiled from. Copies of a Scene start
-  /// with an empty cache (the mutex is not copyable, and a copy is a new scene).
+  /// The last compiled scene and what it was compiled from. A copied or assigned Scene
+  /// starts with an empty cache: the mutex is not copyable, and an assigned scene's old
+  /// compiled form must not survive under the revision number it takes over.
   struct CompileCache {
     std::mutex mutex;
     std::shared_ptr<const CompiledScene> scene;
@@ -191,7 +192,11 @@ class Scene {
     int width = 0, height = 0;
     CompileCache() = default;
     CompileCache(const CompileCache&) {}
-    CompileCache& operator=(const CompileCache&) { return *this; }
+    CompileCache& operator=(const CompileCache&) {
+      std::lock_guard<std::mutex> lock(mutex);
+      scene.reset();
+      return *this;
+    }
   };
   uint64_t revision_ = 0;  // bumped by every change to the scene
   mutable CompileCache cache_;
