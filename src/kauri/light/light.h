@@ -165,6 +165,10 @@ KAURI_HOST_DEVICE inline bool has_light_density(const Light& l, LightDensity den
   if (l.type == LightType::EnvMap) return l.compensated.marginal.integral > 0;
   return true;
 }
+/// An environment map's sampling distribution for `density`.
+KAURI_HOST_DEVICE inline const Distribution2D& env_distribution(const Light& l, LightDensity density) {
+  return density == LightDensity::Compensated ? l.compensated : l.distribution;
+}
 
 }  // namespace kauri
 

@@ -78,9 +78,8 @@ KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u
     s.wi = sample_uniform_sphere(u);
     s.pdf = uniform_sphere_pdf();
   } else {
-    const Distribution2D& d = density == LightDensity::Compensated ? l.compensated : l.distribution;
     Float pdf_uv;
-    Vec2 uv = d.sample(u, &pdf_uv);
+    Vec2 uv = env_distribution(l, density).sample(u, &pdf_uv);
     Float sin_theta = std::sin(uv.y * kPi);
     if (pdf_uv == 0 || sin_theta == 0) return s;
     s.wi = l.frame.to_world(latlong_to_direction(uv));
@@ -163,8 +162,7 @@ KAURI_HOST_DEVICE inline Float light_pdf(const Light& l, Point3 p, Vec3 wi, Poin
       Vec2 uv = direction_to_latlong(l.frame.to_local(wi));
       Float sin_theta = std::sin(uv.y * kPi);
       if (sin_theta == 0) return 0;
-      const Distribution2D& d = density == LightDensity::Compensated ? l.compensated : l.distribution;
-      return d.pdf(uv) / (2 * kPi * kPi * sin_theta);
+      return env_distribution(l, density).pdf(uv) / (2 * kPi * kPi * sin_theta);
     }
     default: return 0;
   }
