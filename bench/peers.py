@@ -193,3 +193,108 @@ def render_kauri(desc, spp=64, resolution=(64, 64), seed=0):
     out = kauri.render(kauri_scene(desc), spp=spp, resolution=resolution, seed=seed, max_depth=64, max_diffuse=64,
                        max_glossy=64, max_transmission=64, aovs=False)
     return out.rgba[:, :, :3].astype(np.float64)
+
+
+# ---------------------------------------------------------------------------------------
+# Blender's Cycles (bench/cycles_peer.py in a Python that has bpy)
+
+def cycles_python(explicit=None):
+    """The Python interpreter with `bpy` for the Cycles peer, or None: `explicit`, else
+    $KAURI_BPY_PYTHON, else the virtual environment scripts/setup_cycles makes
+    ($KAURI_BPY_VENV, default ~/.cache/kauri/bpy-venv)."""
+    import os
+    if explicit:
+        return explicit
+    if os.environ.get("KAURI_BPY_PYTHON"):
+        return os.environ["KAURI_BPY_PYTHON"]
+    venv = os.environ.get("KAURI_BPY_VENV", os.path.join(os.path.expanduser("~"), ".cache", "kauri", "bpy-venv"))
+    py = os.path.join(venv, "bin", "python")
+    return py if os.path.exists(py) else None
+
+
+def metal_rgb(desc):
+    """RGB η and k of the description's measured metals, as Mitsuba 3's RGB variants use
+    them (its own reduction of the same tables): Cycles is an RGB renderer and needs them."""
+    metals = sorted({sh["conductor"]["metal"] for sh in desc["shapes"] if "conductor" in sh})
+    if not metals:
+        return {}
+    import mitsuba as mi
+    if "scalar_rgb" not in mi.variants():
+        raise RuntimeError("the RGB of measured metals comes from Mitsuba's scalar_rgb variant, not available")
+    previous = mi.variant()
+    mi.set_variant("scalar_rgb")
+    try:
+        out = {}
+        for m in metals:
+            p = mi.traverse(mi.load_dict({"type": "roughconductor", "material": m, "distribution": "ggx"}))
+            out[m] = {"eta": [float(x) for x in p["eta.value"]], "k": [float(x) for x in p["k.value"]]}
+        return out
+    finally:
+        if previous:
+            mi.set_variant(previous)
+
+
+class CyclesPeer:
+    """Client of a long-lived `cycles_peer.py --serve` process. render(desc, ...) renders
+    the bench scene named desc["name"] (the server builds scenes.<name>.describe() itself:
+    the descriptions hold arrays and the two Pythons have different NumPy majors) and
+    returns (image (H, W, 3) float64, wall s, CPU s) as timed inside the server around
+    Cycles' render call."""
+
+    def __init__(self, python=None, log_path=None):
+        import os
+        import subprocess
+        import tempfile
+        self.python = cycles_python(python)
+        if not self.python:
+            raise RuntimeError("no Python with bpy: run scripts/setup_cycles (or set KAURI_BPY_PYTHON)")
+        self._dir = tempfile.mkdtemp(prefix="kauri_cycles_")
+        self._log = open(log_path or os.path.join(self._dir, "blender.log"), "w")
+        script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "cycles_peer.py")
+        self._proc = subprocess.Popen([self.python, script, "--serve"], stdin=subprocess.PIPE,
+                                      stdout=subprocess.PIPE, stderr=self._log, text=True)
+        self._metals = {}
+        self._n = 0
+        self.version = None  # Blender's version string, from the first reply
+
+    def render(self, desc, spp, resolution, seed, threads):
+        import json
+        import os
+        name = desc["name"]
+        if name not in self._metals:
+            self._metals[name] = metal_rgb(desc)
+        self._n += 1
+        out = os.path.join(self._dir, f"render_{self._n}.npy")
+        req = {"scene": name, "spp": int(spp), "res": int(resolution[0]), "seed": int(seed),
+               "threads": int(threads), "metal_rgb": self._metals[name], "out": out}
+        if resolution[0] != resolution[1]:
+            raise ValueError("CyclesPeer renders square images")
+        self._proc.stdin.write(json.dumps(req) + "\n")
+        self._proc.stdin.flush()
+        line = self._proc.stdout.readline()
+        if not line:
+            raise RuntimeError(f"the Cycles server exited (status {self._proc.poll()}); its log: {self._log.name}")
+        reply = json.loads(line)
+        if not reply["ok"]:
+            raise RuntimeError(f"Cycles: {reply['error']}")
+        self.version = reply.get("blender")
+        img = np.load(out).astype(np.float64)
+        os.unlink(out)
+        return img, reply["wall"], reply["cpu"]
+
+    def close(self):
+        import shutil
+        if self._proc.poll() is None:
+            self._proc.stdin.close()
+            try:
+                self._proc.wait(timeout=30)
+            except Exception:  # noqa: BLE001
+                self._proc.kill()
+        self._log.close()
+        shutil.rmtree(self._dir, ignore_errors=True)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()

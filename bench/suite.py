@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""kauri benchmark suite (issue 4): kauri against Mitsuba 3 on the scenes of bench/scenes.
+"""kauri benchmark suite (issue 4): kauri against Mitsuba 3 and Blender's Cycles on the scenes
+of bench/scenes.
 
 Renders every scene with kauri and with Mitsuba 3 in the same run, prints the tables and
 writes a markdown report, the raw numbers (results.json) and PNG plots to bench/results/.
@@ -8,8 +9,10 @@ Sections
   1 agreement  kauri vs Mitsuba scalar_spectral: relative difference of the image mean per
                channel, per-channel relMSE between the two mean images (with the level that
                noise alone would give), and a z-test on 4x4 block means (|z| < 5 passes).
+               kauri vs Cycles (an RGB renderer): the image means per channel, within 1.5%
+               (3% with measured metals, which Cycles gets as RGB).
   2 speed      speed at equal quality: kauri, Mitsuba scalar_rgb, scalar_spectral,
-               llvm_ad_rgb, llvm_ad_spectral over an spp ladder. Error = relMSE of each
+               llvm_ad_rgb, llvm_ad_spectral, Cycles over an spp ladder. Error = relMSE of each
                renderer against its OWN expected image (its noise; bias is section 1),
                estimated from independent renders, per pixel and over 4x4-pixel blocks;
                efficiency = relMSE x wall time; time to reach kauri's top-rung error and
@@ -21,7 +24,9 @@ Sections
                and builds the scene.
 
 Every renderer runs with the same thread count (--threads; kauri.render(threads=N) and
-drjit.set_thread_count(N) for Mitsuba, checked by the CPU-time / wall-time ratio).
+drjit.set_thread_count(N) for Mitsuba, render.threads = N for Cycles, checked by the CPU-time /
+wall-time ratio). Cycles runs in its own Python (bpy pins NumPy 1.x): scripts/setup_cycles
+installs it (make test does), --cycles-python names another, --no-cycles leaves it out.
 Default (full): agreement 64x64, 128 spp, 16 renders; speed 64x64, spp 4/16/64/256,
 8 timed renders per rung; memory 64x64, 256 spp. --quick: agreement 32x32, 64 spp, 10
 renders; speed 32x32, spp 4/16/64, 6 renders; memory 32x32, 64 spp (every section, under
@@ -76,8 +81,18 @@ FULL_ONLY = {"displaced"}
 
 KAURI = "kauri"
 MITSUBA_VARIANTS = ("scalar_rgb", "scalar_spectral", "llvm_ad_rgb", "llvm_ad_spectral")
-RENDERERS = (KAURI,) + MITSUBA_VARIANTS
+CYCLES = "cycles"
+RENDERERS = (KAURI,) + MITSUBA_VARIANTS + (CYCLES,)
 AGREEMENT_PEER = "scalar_spectral"
+# Cycles renders in RGB: coloured interreflections differ from spectral transport by tenths
+# of a percent, beyond noise at the agreement spp, and measured gold given as RGB η, k by up
+# to ~2% in red; so its check is on the image means per channel, with these tolerances.
+CYCLES_MEAN_TOL = 0.015
+CYCLES_MEAN_TOL_METALS = 0.03
+
+
+def cycles_tolerance(desc):
+    return CYCLES_MEAN_TOL_METALS if any("conductor" in sh for sh in desc["shapes"]) else CYCLES_MEAN_TOL
 SECTIONS = ("agreement", "speed", "replay", "memory")
 REL_EPS = 0.01   # relMSE denominator: ref^2 + REL_EPS keeps dark pixels from dominating
 Z_PASS = 5.0     # block z-test threshold (as tests/python/test_peer_agreement.py)
@@ -340,10 +355,29 @@ class _RendererProxy:
 class Renderers:
     """render(name, desc, spp, res, seed) -> (image (H, W, 3) float64, Call)."""
 
-    def __init__(self, threads):
+    def __init__(self, threads, cycles_python=None):
         self.threads = threads
         self.drjit_threads = None  # drjit.thread_count() after set_thread_count(threads)
         self._drjit_ready = False
+        self.cycles_python = cycles_python
+        self._cycles = None  # peers.CyclesPeer, started on the first Cycles render
+
+    def close(self):
+        if self._cycles is not None:
+            self._cycles.close()
+            self._cycles = None
+
+    def cycles_version(self):
+        return self._cycles.version if self._cycles is not None else None
+
+    def _render_cycles(self, desc, spp, res, seed):
+        import peers
+        if self._cycles is None:
+            self._cycles = peers.CyclesPeer(self.cycles_python)
+        if desc["name"] not in SCENES:
+            raise ValueError(f"Cycles renders the bench scenes by name; {desc['name']!r} is not one")
+        img, wall, cpu = self._cycles.render(desc, spp, (res, res), seed, self.threads)
+        return img, Call(wall, cpu)
 
     def _setup_drjit(self):
         if not self._drjit_ready:
@@ -355,6 +389,8 @@ class Renderers:
 
     def render(self, renderer, desc, spp, res, seed):
         import peers
+        if renderer == CYCLES:
+            return self._render_cycles(desc, spp, res, seed)
         calls = []
         if renderer == KAURI:
             def timed(kauri_mod, *args, **kwargs):
@@ -534,6 +570,7 @@ for line in sys.stdin:
     sys.stdout.flush()
 """
 _launcher = None
+_cycles_python_arg = None  # --cycles-python, for the Cycles memory workers
 _worker_cpu_s = 0.0  # CPU seconds of the workers (the launcher's children, not in os.times here)
 
 
@@ -556,8 +593,16 @@ def stop_launcher():
 def run_worker(worker, renderer, scene, res, spp, threads, baseline=False):
     """Runs a worker subprocess (through the launcher); returns (returncode, output text,
     peak RSS in KiB: ru_maxrss of the worker from os.wait4)."""
-    cmd = [sys.executable, os.path.abspath(__file__), "--worker", worker, "--renderer", renderer, "--scene", scene,
-           "--res", str(res), "--spp", str(spp), "--threads", str(threads)] + (["--baseline"] if baseline else [])
+    if renderer == CYCLES:
+        import peers
+        cmd = [peers.cycles_python(_cycles_python_arg), os.path.join(BENCH, "cycles_peer.py"), "--scene", scene,
+               "--res", str(res), "--spp", str(spp), "--threads", str(threads),
+               "--metal-rgb", json.dumps(peers.metal_rgb(SCENES[scene].describe()))]
+        cmd += ["--baseline"] if baseline else []
+    else:
+        cmd = [sys.executable, os.path.abspath(__file__), "--worker", worker, "--renderer", renderer, "--scene",
+               scene, "--res", str(res), "--spp", str(spp), "--threads", str(threads)]
+        cmd += ["--baseline"] if baseline else []
     launcher = start_launcher()
     launcher.stdin.write(json.dumps([cmd, ROOT]) + "\n")
     launcher.stdin.flush()
@@ -592,12 +637,35 @@ def probe_variants(variants, threads, log):
     return ok, skipped
 
 
+def probe_cycles(rnd, log):
+    """(True, None) when Cycles renders a tiny Cornell box, else (False, why)."""
+    import peers
+    if not peers.cycles_python(rnd.cycles_python):
+        return False, "bpy is not installed (run scripts/setup_cycles, or pass --cycles-python)"
+    try:
+        rnd.render(CYCLES, SCENES["cornell"].describe(), 1, 8, seed=1)
+        return True, None
+    except Exception as e:  # noqa: BLE001 - reported in the tables
+        rnd.close()
+        return False, f"{type(e).__name__}: {e}"[:200]
+
+
 # ---------------------------------------------------------------------------------------
 # Section 1: agreement
 
-def section_agreement(cfg, names, rnd, out_dir, log):
+def cycles_agreement(k, c, tol, b=2):
+    """kauri runs k vs Cycles runs c (N, H, W, 3): relative difference of the interior image
+    means per channel with standard errors, the largest 4x4-block |z| (information: RGB vs
+    spectral differences exceed noise there) and pass = every |Δmean| < tol."""
+    rel = mean_rel_diff(k[:, b:-b, b:-b].mean(0), c[:, b:-b, b:-b].mean(0))
+    se = mean_rel_diff_se(k[:, b:-b, b:-b], c[:, b:-b, b:-b])
+    return {"mean_rel_diff": rel.tolist(), "mean_rel_diff_se": se.tolist(), "tolerance": tol,
+            "max_abs_z": float(np.abs(block_z(k, c)).max()), "pass": bool(np.all(np.abs(rel) < tol))}
+
+
+def section_agreement(cfg, names, rnd, out_dir, log, cycles=False):
     res, spp, runs = cfg.agree_res, cfg.agree_spp, cfg.agree_runs
-    data, rows = {}, []
+    data, rows, crows = {}, [], []
     for name in names:
         desc = SCENES[name].describe()
         sets = {}
@@ -611,6 +679,19 @@ def section_agreement(cfg, names, rnd, out_dir, log):
             rows.append([name, f"failed: {type(e).__name__}: {e}"[:80]] + [""] * 8)
             continue
         k, m = sets[KAURI], sets[AGREEMENT_PEER]
+        if cycles:
+            try:
+                log(f"agreement {name}: {CYCLES}, {runs} renders x {spp} spp at {res}x{res}")
+                c = np.stack([rnd.render(CYCLES, desc, spp, res, seed=100 + s)[0] for s in range(runs)])
+                ca = cycles_agreement(k, c, cycles_tolerance(desc))
+                crows.append([name] + [f"{100 * v:+.2f} ± {100 * e:.2f}%" for v, e in
+                                       zip(ca["mean_rel_diff"], ca["mean_rel_diff_se"])]
+                             + [f"{ca['max_abs_z']:.1f}", f"{100 * ca['tolerance']:g}%",
+                                "pass" if ca["pass"] else "FAIL"])
+            except Exception as e:  # noqa: BLE001 - reported in the table
+                log(f"agreement {name}: Cycles failed: {type(e).__name__}: {e}")
+                ca = {"status": "failed", "reason": f"{type(e).__name__}: {e}"}
+                crows.append([name, f"failed: {ca['reason']}"[:80], "", "", "", "", ""])
         z = block_z(k, m)
         zmax = float(np.abs(z).max())
         b = 2  # interior: the border is where the renderers reconstruct differently
@@ -619,6 +700,8 @@ def section_agreement(cfg, names, rnd, out_dir, log):
         rmse, floor = relmse_between(k[:, b:-b, b:-b], m[:, b:-b, b:-b])
         data[name] = {"mean_rel_diff": rel.tolist(), "mean_rel_diff_se": rel_se.tolist(), "relmse": rmse.tolist(),
                       "relmse_noise": floor.tolist(), "max_abs_z": zmax, "z": z.tolist(), "pass": zmax < Z_PASS}
+        if cycles:
+            data[name][CYCLES] = ca
         rows.append([name] + [f"{100 * v:+.2f} ± {100 * e:.2f}%" for v, e in zip(rel, rel_se)]
                     + [f"{v:.2e}" for v in rmse]
                     + [f"{np.mean(floor):.2e}", f"{zmax:.2f}", "pass" if zmax < Z_PASS else "FAIL"])
@@ -642,6 +725,17 @@ def section_agreement(cfg, names, rnd, out_dir, log):
           "", table, ""]
     md += [" ".join(f"[{n}](agreement_{n}.png)" for n in names if os.path.exists(
         os.path.join(out_dir, f"agreement_{n}.png"))), ""]
+    if crows:
+        ctable = md_table(["scene", "Δmean R", "Δmean G", "Δmean B", "max abs(z) (information)", "tolerance",
+                           "abs(Δmean) < tolerance"], crows)
+        print("\nkauri vs Cycles:\n" + ctable + "\n", flush=True)
+        md += ["kauri vs Blender's Cycles (same renders of kauri, same seeds and spp): Δmean = (mean kauri − "
+               "mean Cycles) / mean Cycles per channel over the interior. Cycles transports RGB, not spectra: "
+               "coloured interreflections differ from spectral rendering by tenths of a percent, and "
+               "gold given to it as RGB η and k by up to ~2% in red, beyond noise here; so the check is "
+               f"|Δmean| per channel below {100 * CYCLES_MEAN_TOL:g}% ({100 * CYCLES_MEAN_TOL_METALS:g}% in "
+               "scenes with measured metals), and the block z is information, not a test.",
+               "", ctable, ""]
     return data, md
 
 
@@ -843,7 +937,7 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
 
 
 RENDERER_STYLE = {KAURI: ("C3", "o"), "scalar_rgb": ("C0", "s"), "scalar_spectral": ("C1", "D"),
-                  "llvm_ad_rgb": ("C2", "^"), "llvm_ad_spectral": ("C4", "v")}
+                  "llvm_ad_rgb": ("C2", "^"), "llvm_ad_spectral": ("C4", "v"), CYCLES: ("C5", "P")}
 
 
 def _speed_axes(ax, name, scene, metric):
@@ -976,7 +1070,8 @@ def section_memory(cfg, names, renderers, threads, log):
     print("\n" + table + "\n", flush=True)
     md = [f"Each figure is the peak resident set (`ru_maxrss` from `os.wait4`) of a fresh Python "
           f"subprocess: 'baseline' imports the renderer and builds the scene (kauri: `peers.to_kauri`; "
-          f"Mitsuba: `set_variant` + `load_dict`), 'peak' does the same and renders once "
+          f"Mitsuba: `set_variant` + `load_dict`; Cycles: `import bpy` and the scene built in "
+          f"Blender, in the bpy environment's Python), 'peak' does the same and renders once "
           f"({res}×{res} px, {spp} spp, {threads} threads; for LLVM variants including the kernel "
           f"compile or its load from the disk cache). Mitsuba subprocesses do not load kauri. "
           f"Python and NumPy are in both figures; peak − baseline is what rendering adds.", "", table, ""]
@@ -1021,10 +1116,11 @@ def build_report(info, mode, argv, sections_md, thread_check, elapsed, done, loa
           "## Machine", "",
           f"- CPU: {info['cpu']}, {info['cores']} cores; memory {info['memory_gib']} GiB; {info['os']}",
           f"- Threads for every renderer: {info['threads']} (kauri: `render(threads=N)`; Mitsuba: "
-          f"`drjit.set_thread_count(N)`, after which `drjit.thread_count()` = {info.get('drjit_thread_count', '–')})",
+          f"`drjit.set_thread_count(N)`, after which `drjit.thread_count()` = {info.get('drjit_thread_count', '–')}; "
+          f"Cycles: `scene.render.threads = N`)",
           f"- Load average (1/5/15 min) at start: {info['loadavg_start']}; at end: {info.get('loadavg_end', '–')}",
           f"- Versions: kauri {v.get('kauri')} (commit {v.get('commit')}), Mitsuba {v.get('mitsuba')}, Dr.Jit {v.get('drjit', '–')}, "
-          f"Python {v['python']}, NumPy {v['numpy']}",
+          f"Blender (Cycles) {v.get('blender', '–')}, Python {v['python']}, NumPy {v['numpy']}",
           f"- Dr.Jit LLVM library (DRJIT_LIBLLVM_PATH): {info['libllvm']}", ""]
     if load:
         md += ["CPU use per section, in cores (this run / other processes on the machine, from "
@@ -1068,6 +1164,10 @@ def parse_args(argv):
                    help="output directory for report.md, results.json and the PNGs (default: bench/results)")
     p.add_argument("--sections", default=",".join(SECTIONS),
                    help=f"comma-separated sections to run (default: all: {','.join(SECTIONS)})")
+    p.add_argument("--cycles-python", default=None,
+                   help="a Python with bpy for the Cycles column (default: $KAURI_BPY_PYTHON, else the "
+                        "environment scripts/setup_cycles makes, ~/.cache/kauri/bpy-venv)")
+    p.add_argument("--no-cycles", action="store_true", help="leave Blender's Cycles out")
     # Internal: subprocess workers for the probe and the memory section.
     p.add_argument("--worker", choices=("probe", "memory"), help=argparse.SUPPRESS)
     p.add_argument("--renderer", help=argparse.SUPPRESS)
@@ -1116,7 +1216,16 @@ def _run(args, argv):
     names = args.scene_list
     log(f"kauri benchmark suite ({mode}): scenes {', '.join(names)}; {args.threads} threads; "
         f"sections {', '.join(args.section_list)}; output {out_dir}")
-    rnd = Renderers(args.threads)
+    global _cycles_python_arg
+    _cycles_python_arg = args.cycles_python
+    rnd = Renderers(args.threads, args.cycles_python)
+    try:
+        return _run_sections(args, argv, cfg, mode, out_dir, log, info, names, rnd)
+    finally:
+        rnd.close()
+
+
+def _run_sections(args, argv, cfg, mode, out_dir, log, info, names, rnd):
     results = {"machine": info, "mode": mode, "config": dataclasses.asdict(cfg), "argv": argv}
     sections_md, thread_check = {}, {}
 
@@ -1138,13 +1247,25 @@ def _run(args, argv):
         log("probing Mitsuba variants (subprocesses)")
         variants, skipped = probe_variants(MITSUBA_VARIANTS, args.threads, log)
     renderers = [KAURI] + variants
+    if args.no_cycles:
+        skipped[CYCLES] = "left out (--no-cycles)"
+    elif {"speed", "memory", "agreement"} & set(args.section_list):
+        log("probing Cycles (bpy subprocess)")
+        ok, why = probe_cycles(rnd, log)
+        if ok:
+            renderers.append(CYCLES)
+            info["versions"]["blender"] = rnd.cycles_version()
+        else:
+            skipped[CYCLES] = why
+            log(f"probe: Cycles skipped ({why})")
 
     load = results["cpu_load"] = {}
 
     if "agreement" in args.section_list:
         meter = CpuMeter()
         if AGREEMENT_PEER in variants:
-            results["agreement"], sections_md["agreement"] = section_agreement(cfg, names, rnd, out_dir, log)
+            results["agreement"], sections_md["agreement"] = section_agreement(cfg, names, rnd, out_dir, log,
+                                                                               cycles=CYCLES in renderers)
         else:
             why = skipped.get(AGREEMENT_PEER, "not available")
             log(f"agreement: skipped, Mitsuba {AGREEMENT_PEER} {why}")
