@@ -46,6 +46,8 @@ BENCH = os.path.dirname(os.path.abspath(__file__))
 if BENCH not in sys.path:
     sys.path.insert(0, BENCH)
 
+from procinfo import vmhwm_kib  # noqa: E402
+
 MAX_BOUNCES = 64  # as peers.render_kauri (max_depth=64) and peers.to_mitsuba (max_depth=65)
 GAUSSIAN_WIDTH = 2.0  # px: reproduces the sigma = 0.5 px Gaussian of kauri and Mitsuba (docstring)
 
@@ -355,17 +357,6 @@ def _describe(name):
     return importlib.import_module(f"scenes.{name}").describe()
 
 
-def _vmhwm_kib():
-    try:
-        with open("/proc/self/status") as f:
-            for line in f:
-                if line.startswith("VmHWM:"):
-                    return int(line.split()[1])
-    except OSError:
-        pass
-    return None
-
-
 def serve(stdin=sys.stdin, stdout=sys.stdout):
     """One JSON request per line: {"scene", "spp", "res", "seed", "threads", "metal_rgb",
     "out"}; renders scene `scenes.<scene>.describe()` (built once while the same scene is
@@ -416,7 +407,7 @@ def main(argv=None):
     if not args.baseline:
         img, wall, _ = render(args.spp, (args.res, args.res), 1, args.threads)
         out.update(mean=float(img.mean()), wall=wall)
-    out["vmhwm_kib"] = _vmhwm_kib()
+    out["vmhwm_kib"] = vmhwm_kib()
     print(json.dumps(out), flush=True)
     return 0
 

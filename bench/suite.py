@@ -58,6 +58,8 @@ ROOT = os.path.dirname(BENCH)
 if BENCH not in sys.path:
     sys.path.insert(0, BENCH)
 
+from procinfo import vmhwm_kib  # noqa: E402
+
 
 def _load_scene(name):
     module = importlib.import_module(f"scenes.{name}")
@@ -524,7 +526,7 @@ def _worker_main(args):
     res, spp = args.res, args.spp
     if args.worker == "probe" or not args.baseline:
         img, call = Renderers(args.threads).render(renderer, desc, spp, res, seed=1)
-        print(json.dumps({"mean": float(img.mean()), "wall": call.wall, "vmhwm_kib": _vmhwm_kib()}))
+        print(json.dumps({"mean": float(img.mean()), "wall": call.wall, "vmhwm_kib": vmhwm_kib()}))
         return 0
     # Baseline: import the renderer and build the scene, no render.
     if renderer == KAURI:
@@ -537,20 +539,8 @@ def _worker_main(args):
         scene = mi.load_dict(peers.to_mitsuba(desc, spp, (res, res)))
         dr.eval()
         dr.sync_thread()
-    print(json.dumps({"built": type(scene).__name__, "vmhwm_kib": _vmhwm_kib()}))
+    print(json.dumps({"built": type(scene).__name__, "vmhwm_kib": vmhwm_kib()}))
     return 0
-
-
-def _vmhwm_kib():
-    """This process's own high-water RSS (cross-check of wait4's ru_maxrss)."""
-    try:
-        with open("/proc/self/status") as f:
-            for line in f:
-                if line.startswith("VmHWM:"):
-                    return int(line.split()[1])
-    except OSError:
-        pass
-    return None
 
 
 # ru_maxrss of an exec'd child starts from the RSS of the process it was forked from (Linux
