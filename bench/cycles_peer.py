@@ -12,7 +12,8 @@ The mapping is the one peers.py makes for Mitsuba, feature by feature:
   (material emission_sampling = 'FRONT'). Front is the side of (b − a) × (d − a), as in
   kauri and in Mitsuba's rectangle.
 - Spheres: Cycles' point-cloud points are exact ray-traced spheres with smooth normals; one
-  point per sphere, made by a geometry-nodes modifier.
+  point per sphere, made by a geometry-nodes modifier. Not for glass: points do not refract
+  like a solid sphere, so dielectric spheres are smooth meshes of 512 × 256 segments.
 - Rough conductor and rough dielectric: single-scattering GGX ('GGX', not 'MULTI_GGX';
   Cycles' roughness r has α = r²), the conductor with the Physical Conductor Fresnel at RGB
   η and k. Cycles is an RGB renderer, so a measured metal's spectra must come as RGB: the
@@ -172,9 +173,14 @@ def add_mesh(sh, mat):
 
 
 def add_sphere(sh, mat):
-    """One point of a point cloud (an exact sphere in Cycles), from a geometry-nodes modifier."""
+    """Opaque spheres: one point of a point cloud (an exact sphere in Cycles), from a
+    geometry-nodes modifier. Dielectric spheres: a finely tessellated, smooth-shaded mesh,
+    because Cycles' points do not refract like a solid sphere: a rough-glass point came out
+    up to 19% off kauri and Mitsuba per 8×8-pixel block, the mesh within 1%."""
     bpy = _bpy()
     (center, radius) = sh["sphere"]
+    if "dielectric" in sh:
+        return _mesh_sphere(sh["name"], center, radius, mat)
     ng = bpy.data.node_groups.new(sh["name"], "GeometryNodeTree")
     ng.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
     pts = ng.nodes.new("GeometryNodePoints")
@@ -188,6 +194,25 @@ def add_sphere(sh, mat):
     ng.links.new(setm.outputs["Geometry"], out.inputs[0])
     obj = _link(bpy.data.objects.new(sh["name"], bpy.data.meshes.new(sh["name"])))
     obj.modifiers.new("sphere", "NODES").node_group = ng
+    return obj
+
+
+SPHERE_SEGMENTS = (512, 256)  # silhouette within r (1 - cos(pi / 256)) = 7.5e-5 r of the sphere
+
+
+def _mesh_sphere(name, center, radius, mat):
+    import bmesh
+    bpy = _bpy()
+    me = bpy.data.meshes.new(name)
+    bm = bmesh.new()
+    bmesh.ops.create_uvsphere(bm, u_segments=SPHERE_SEGMENTS[0], v_segments=SPHERE_SEGMENTS[1], radius=float(radius))
+    for f in bm.faces:
+        f.smooth = True
+    bm.to_mesh(me)
+    bm.free()
+    me.materials.append(mat)
+    obj = _link(bpy.data.objects.new(name, me))
+    obj.location = tuple(map(float, center))
     return obj
 
 
