@@ -14,7 +14,7 @@ test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j2
 	$(PYTHON) -m pytest -q tests/python
 
-# bench: the full peer suite (kauri vs Mitsuba 3; report in bench/results/) plus the
+# bench: the full peer suite (kauri vs Mitsuba 3 and Cycles; report in bench/results/) plus the
 # demo-scene and layered-material micro-benchmarks. bench-quick: the suite at low res / spp.
 bench: build
 	$(PYTHON) bench/suite.py

@@ -282,6 +282,16 @@ class CyclesPeer:
         os.unlink(out)
         return img, reply["wall"], reply["cpu"]
 
+    def cpu_seconds(self):
+        """CPU time (user + system) the server has used so far, from /proc; 0 once it exited."""
+        import os
+        try:
+            with open(f"/proc/{self._proc.pid}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+            return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime, stime
+        except (OSError, ValueError, IndexError):
+            return 0.0
+
     def close(self):
         import shutil
         if self._proc.poll() is None:

@@ -100,3 +100,15 @@ def test_scene_registry_has_describable_scenes():
     assert {"cornell", "glossy", "hangar", "envmap"} <= set(suite.SCENES)
     for module in suite.SCENES.values():
         assert callable(module.describe)
+
+
+def test_marginal_efficiency_removes_a_fixed_per_call_cost():
+    # t = 0.3 s + 5 ms per sample, relMSE = 0.2 / spp: the marginal figure is the top rung's
+    # relMSE times its sampling time alone, and the overhead comes back.
+    spp = [4, 16, 64, 256]
+    t = [0.3 + 0.005 * s for s in spp]
+    err = [0.2 / s for s in spp]
+    c, overhead = suite.marginal_efficiency(spp, err, t)
+    assert c == pytest.approx(0.2 / 256 * 0.005 * 256)
+    assert overhead == pytest.approx(0.3)
+    assert suite.efficiency(spp, err, t) > c  # the fitted efficiency carries the overhead
