@@ -200,19 +200,35 @@ def add_sphere(sh, mat):
 SPHERE_SEGMENTS = (512, 256)  # silhouette within r (1 - cos(pi / 256)) = 7.5e-5 r of the sphere
 
 
+def sphere_triangles(n_phi, n_theta):
+    """Unit sphere as a lat-long triangle mesh: (positions (V, 3), triangles (F, 3)), counter-
+    clockwise seen from outside (outward geometric normals, which Cycles' glass needs to tell
+    entering from leaving). Poles are single vertices; every band quad is split in two."""
+    theta = np.pi * np.arange(1, n_theta) / n_theta
+    phi = 2 * np.pi * np.arange(n_phi) / n_phi
+    T, P = np.meshgrid(theta, phi, indexing="ij")
+    rings = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], -1).reshape(-1, 3)
+    pos = np.concatenate([[(0.0, 0.0, 1.0)], rings, [(0.0, 0.0, -1.0)]])
+    top, bottom = 0, len(pos) - 1
+    i = np.arange(n_phi)
+    j = (i + 1) % n_phi
+
+    def ring(k, idx):
+        return 1 + k * n_phi + idx
+
+    tris = [np.stack([np.full(n_phi, top), ring(0, i), ring(0, j)], -1)]
+    for k in range(n_theta - 2):
+        a, b, c, d = ring(k, i), ring(k + 1, i), ring(k + 1, j), ring(k, j)
+        tris += [np.stack([a, b, c], -1), np.stack([a, c, d], -1)]
+    tris.append(np.stack([ring(n_theta - 2, i), np.full(n_phi, bottom), ring(n_theta - 2, j)], -1))
+    return pos, np.concatenate(tris).astype(np.int32)
+
+
 def _mesh_sphere(name, center, radius, mat):
-    import bmesh
-    bpy = _bpy()
-    me = bpy.data.meshes.new(name)
-    bm = bmesh.new()
-    bmesh.ops.create_uvsphere(bm, u_segments=SPHERE_SEGMENTS[0], v_segments=SPHERE_SEGMENTS[1], radius=float(radius))
-    for f in bm.faces:
-        f.smooth = True
-    bm.to_mesh(me)
-    bm.free()
-    me.materials.append(mat)
-    obj = _link(bpy.data.objects.new(name, me))
-    obj.location = tuple(map(float, center))
+    P, F = sphere_triangles(*SPHERE_SEGMENTS)
+    obj = add_mesh({"name": name, "mesh": (P * float(radius) + np.asarray(center, float), F)}, mat)
+    obj.data.polygons.foreach_set("use_smooth", np.ones(len(F), dtype=bool))
+    obj.data.update()
     return obj
 
 

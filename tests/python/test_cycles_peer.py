@@ -48,6 +48,22 @@ def test_padded_latlong_reproduces_kauris_lookup():
                                    kauri_lookup(u, v), rtol=1e-6, atol=1e-6)  # float32 image
 
 
+def test_glass_sphere_mesh_is_closed_and_faces_outward():
+    # Cycles decides entering / leaving glass by the geometric normal: every triangle must
+    # face outward, the surface must be closed (each edge in exactly two triangles) and
+    # approximate the unit sphere.
+    P, F = cycles_peer.sphere_triangles(32, 16)
+    a, b, c = P[F[:, 0]], P[F[:, 1]], P[F[:, 2]]
+    n = np.cross(b - a, c - a)
+    assert np.all(np.einsum("ij,ij->i", n, (a + b + c) / 3) > 0)
+    edges = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    assert np.all(counts == 2)
+    np.testing.assert_allclose(np.linalg.norm(P, axis=1), 1, rtol=1e-12)
+    area = 0.5 * np.linalg.norm(n, axis=1).sum()
+    assert 0.98 * 4 * np.pi < area < 4 * np.pi
+
+
 needs_cycles = pytest.mark.skipif(peers.cycles_python() is None,
                                   reason="no Python with bpy (scripts/setup_cycles)")
 
