@@ -91,13 +91,14 @@ AGREEMENT_PEER = "scalar_spectral"
 # to ~2% in red; so its check is on the image means per channel, with these tolerances.
 CYCLES_MEAN_TOL = 0.015
 CYCLES_MEAN_TOL_METALS = 0.03
-
-
-def cycles_tolerance(desc):
-    return CYCLES_MEAN_TOL_METALS if any("conductor" in sh for sh in desc["shapes"]) else CYCLES_MEAN_TOL
 SECTIONS = ("agreement", "speed", "replay", "memory")
 REL_EPS = 0.01   # relMSE denominator: ref^2 + REL_EPS keeps dark pixels from dominating
 Z_PASS = 5.0     # block z-test threshold (as tests/python/test_peer_agreement.py)
+
+
+def cycles_tolerance(desc):
+    """Tolerance of kauri vs Cycles image means for a scene description."""
+    return CYCLES_MEAN_TOL_METALS if any("conductor" in sh for sh in desc["shapes"]) else CYCLES_MEAN_TOL
 
 
 @dataclasses.dataclass(frozen=True)
@@ -607,11 +608,10 @@ def run_worker(worker, renderer, scene, res, spp, threads, baseline=False):
         cmd = [peers.cycles_python(_cycles_python_arg), os.path.join(BENCH, "cycles_peer.py"), "--scene", scene,
                "--res", str(res), "--spp", str(spp), "--threads", str(threads),
                "--metal-rgb", json.dumps(peers.metal_rgb(SCENES[scene].describe()))]
-        cmd += ["--baseline"] if baseline else []
     else:
         cmd = [sys.executable, os.path.abspath(__file__), "--worker", worker, "--renderer", renderer, "--scene",
                scene, "--res", str(res), "--spp", str(spp), "--threads", str(threads)]
-        cmd += ["--baseline"] if baseline else []
+    cmd += ["--baseline"] if baseline else []
     launcher = start_launcher()
     launcher.stdin.write(json.dumps([cmd, ROOT]) + "\n")
     launcher.stdin.flush()

@@ -14,6 +14,7 @@ BENCH = os.path.join(os.path.dirname(__file__), "..", "..", "bench")
 sys.path.insert(0, BENCH)
 import cycles_peer  # noqa: E402  (imports bpy lazily: its pure helpers run here)
 import peers  # noqa: E402
+import suite  # noqa: E402
 
 
 def test_padded_latlong_reproduces_kauris_lookup():
@@ -78,12 +79,6 @@ def _runs(render, n):
     return np.stack([render(s) for s in range(n)])
 
 
-def _blocks(img, n=4, border=2):
-    img = img[..., border:-border, border:-border, :]
-    h, w = img.shape[-3:-1]
-    return img.reshape(*img.shape[:-3], n, h // n, n, w // n, 3).mean(axis=(-4, -2))
-
-
 SCENES = ["cornell", "envmap", "textured", "hangar", "glossy"]
 
 
@@ -102,14 +97,13 @@ def test_cycles_scene_matches_mitsuba_rgb(cycles, name):
     # image means within 1%. A light on the wrong side, a flipped texture, a rotated sky or
     # glass on Cycles' point spheres (which do not refract like solid ones) fails.
     pytest.importorskip("mitsuba")
-    from suite import setup_llvm_env
-    setup_llvm_env()
+    suite.setup_llvm_env()
     desc = _describe(name)
     res, spp, runs = (32, 32), 64, 8
     m = _runs(lambda s: peers.render_mitsuba(desc, "scalar_rgb", spp, res, seed=s), runs)
     c = _runs(lambda s: cycles.render(desc, spp, res, seed=s, threads=2)[0], runs)
     np.testing.assert_allclose(c.mean(axis=(0, 1, 2)), m.mean(axis=(0, 1, 2)), rtol=0.01)
-    cb, mb = _blocks(c), _blocks(m)
+    cb, mb = suite.block_means(c), suite.block_means(m)
     se = np.sqrt(cb.var(0, ddof=1) / runs + mb.var(0, ddof=1) / runs)
     excess = np.abs(cb.mean(0) - mb.mean(0)) - 5 * se - 0.01 * np.abs(mb.mean(0))
     assert np.all(excess < 0), f"blocks off beyond noise + 1%:\n{excess.max(-1)}"
@@ -127,7 +121,7 @@ def test_cycles_scene_mean_matches_kauri(cycles, name):
     res, spp, runs = (32, 32), 64, 4
     k = _runs(lambda s: peers.render_kauri(desc, spp, res, seed=s), runs)
     c = _runs(lambda s: cycles.render(desc, spp, res, seed=s, threads=2)[0], runs)
-    tol = 0.03 if name == "glossy" else 0.015
+    tol = suite.cycles_tolerance(desc)
     np.testing.assert_allclose(k.mean(axis=(0, 1, 2)), c.mean(axis=(0, 1, 2)), rtol=tol)
 
 
