@@ -24,7 +24,7 @@ The mapping is the one peers.py makes for Mitsuba, feature by feature:
   each pole, so Cycles' bilinear lookup equals kauri's (wraps in u, constant from the
   first / last row centre to the pole).
 - Camera: pinhole with the horizontal field of view; pixel filter Gaussian with σ = 0.5 px
-  as kauri and Mitsuba here. Cycles' 'GAUSSIAN' is set by a width, and the width that
+  as kauri and Mitsuba here, or a one-pixel box (the agreement checks, see peers.py). Cycles' 'GAUSSIAN' is set by a width, and the width that
   reproduces σ = 0.5 px was measured: fitting kauri − Cycles (converged cornell, 64×64) as
   gain + shift + c·∇² gives c = −2.1 at width 6, −0.71 at 4, −0.28 at 3, −0.12 at 2.5,
   −0.006 at 2 and +0.06 at 1.5; so width 2 (tests/python/test_cycles_peer.py checks it).
@@ -349,8 +349,7 @@ def build_scene(desc, metal_rgb=None):
     cy.caustics_reflective = cy.caustics_refractive = True
     cy.blur_glossy = 0.0
     cy.use_animated_seed = False
-    cy.pixel_filter_type = "GAUSSIAN"
-    cy.filter_width = GAUSSIAN_WIDTH
+    set_pixel_filter(scene, "gaussian")
     scene.render.resolution_percentage = 100
     scene.render.use_persistent_data = True  # keep the BVH between renders of this scene
     scene.render.film_transparent = False
@@ -363,11 +362,23 @@ def build_scene(desc, metal_rgb=None):
     scene.render.image_settings.exr_codec = "NONE"
 
 
-def render(spp, resolution, seed, threads):
+def set_pixel_filter(scene, pixel_filter):
+    """"gaussian": σ = 0.5 px (GAUSSIAN_WIDTH); "box": one pixel (Cycles' box of width 1
+    draws the position uniformly in the pixel, the box splat's expectation)."""
+    if pixel_filter == "gaussian":
+        scene.cycles.pixel_filter_type, scene.cycles.filter_width = "GAUSSIAN", GAUSSIAN_WIDTH
+    elif pixel_filter == "box":
+        scene.cycles.pixel_filter_type, scene.cycles.filter_width = "BOX", 1.0
+    else:
+        raise ValueError(f"pixel_filter must be 'gaussian' or 'box', not {pixel_filter!r}")
+
+
+def render(spp, resolution, seed, threads, pixel_filter="gaussian"):
     """Renders the current scene; returns ((H, W, 3) float32 linear RGB, wall s, CPU s).
     Only bpy.ops.render.render is timed (as Mitsuba's mi.render, after load_dict)."""
     bpy = _bpy()
     scene = bpy.context.scene
+    set_pixel_filter(scene, pixel_filter)
     scene.cycles.samples = int(spp)
     scene.cycles.seed = int(seed)
     scene.render.resolution_x, scene.render.resolution_y = int(resolution[0]), int(resolution[1])
@@ -400,7 +411,7 @@ def _describe(name):
 
 def serve(stdin=sys.stdin, stdout=sys.stdout):
     """One JSON request per line: {"scene", "spp", "res", "seed", "threads", "metal_rgb",
-    "out"}; renders scene `scenes.<scene>.describe()` (built once while the same scene is
+    "pixel_filter" (optional, "gaussian" or "box"), "out"}; renders scene `scenes.<scene>.describe()` (built once while the same scene is
     asked for), saves the image to `out` (.npy) and answers {"ok", "wall", "cpu"} or
     {"ok": false, "error"}. Blender's own log goes to stderr."""
     current = None
@@ -414,7 +425,8 @@ def serve(stdin=sys.stdin, stdout=sys.stdout):
                 current = None
                 build_scene(_describe(req["scene"]), req.get("metal_rgb"))
                 current = key
-            img, wall, cpu = render(req["spp"], (req["res"], req["res"]), req["seed"], req["threads"])
+            img, wall, cpu = render(req["spp"], (req["res"], req["res"]), req["seed"], req["threads"],
+                                    req.get("pixel_filter", "gaussian"))
             tmp = req["out"] + ".tmp.npy"
             np.save(tmp, img)
             os.replace(tmp, req["out"])

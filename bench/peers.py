@@ -1,7 +1,16 @@
 """Export neutral scene descriptions (bench/scenes) to kauri and to Mitsuba 3 and render
 them side by side. Only features both renderers model the same way are used: Lambertian
 quads (optionally with a bilinear image texture) and flat-shaded triangle meshes, one-sided
-diffuse area lights, a pinhole camera, a Gaussian pixel filter."""
+diffuse area lights, a pinhole camera, a Gaussian pixel filter (σ = 0.5 px, radius 2 px) or a
+box filter of one pixel (`pixel_filter`).
+
+The box is the one filter the three renderers reconstruct identically. Mitsuba 3 splats
+with a piecewise-constant table of its Gaussian (`eval_discretized`, 31 steps over the
+radius, looked up at the step below), not the Gaussian itself: relative to the centre its
+weight 1.8 px out is 28% above the Gaussian's and its effective σ is 0.512 px, so next to a bright edge its
+pixels differ from a true Gaussian's by more than noise (tests/python/test_peer_agreement.py
+measures this); Cycles tabulates its filter for importance sampling. The agreement checks
+therefore use the box; the speed comparison uses the Gaussian, kauri's default."""
 from __future__ import annotations
 
 import numpy as np
@@ -98,7 +107,26 @@ def mitsuba_latlong(img):
     return ((1 - t) * img[y0] + t * img[y1]).astype(np.float32)
 
 
-def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65):
+PIXEL_FILTERS = ("gaussian", "box")
+
+
+def _check_filter(pixel_filter):
+    if pixel_filter not in PIXEL_FILTERS:
+        raise ValueError(f"pixel_filter must be one of {PIXEL_FILTERS}, not {pixel_filter!r}")
+
+
+def _mitsuba_filter(pixel_filter):
+    _check_filter(pixel_filter)
+    return {"type": "gaussian", "stddev": 0.5} if pixel_filter == "gaussian" else {"type": "box"}
+
+
+def _kauri_filter(pixel_filter):
+    _check_filter(pixel_filter)
+    return {"filter": "gaussian", "filter_sigma": 0.5, "filter_radius": 2.0} if pixel_filter == "gaussian" else \
+        {"filter": "box", "filter_radius": 0.5}
+
+
+def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65, pixel_filter="gaussian"):
     """A Mitsuba 3 scene dict (load with mi.load_dict after mi.set_variant)."""
     import mitsuba as mi
     cam = desc["camera"]
@@ -110,7 +138,7 @@ def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65):
                                                                up=list(map(float, cam["up"]))),
                     "sampler": {"type": "independent", "sample_count": spp},
                     "film": {"type": "hdrfilm", "width": resolution[0], "height": resolution[1],
-                             "rfilter": {"type": "gaussian", "stddev": 0.5}, "pixel_format": "rgb"}}}
+                             "rfilter": _mitsuba_filter(pixel_filter), "pixel_format": "rgb"}}}
     if "environment" in desc:
         d["sky"] = {"type": "envmap", "bitmap": mi.Bitmap(mitsuba_latlong(desc["environment"]))}
     if "environment_color" in desc:
@@ -168,10 +196,10 @@ def _ply_file(positions, triangles):
     return path
 
 
-def render_mitsuba(desc, variant="scalar_rgb", spp=64, resolution=(64, 64), seed=0):
+def render_mitsuba(desc, variant="scalar_rgb", spp=64, resolution=(64, 64), seed=0, pixel_filter="gaussian"):
     import mitsuba as mi
     mi.set_variant(variant)
-    scene = mi.load_dict(to_mitsuba(desc, spp, resolution))
+    scene = mi.load_dict(to_mitsuba(desc, spp, resolution, pixel_filter=pixel_filter))
     return np.array(mi.render(scene, seed=seed), dtype=np.float64)
 
 
@@ -188,10 +216,10 @@ def kauri_scene(desc) -> kauri.Scene:
     return _last_kauri_scene[1]
 
 
-def render_kauri(desc, spp=64, resolution=(64, 64), seed=0):
+def render_kauri(desc, spp=64, resolution=(64, 64), seed=0, pixel_filter="gaussian"):
     # The beauty alone, like Mitsuba's film here (kauri's albedo / normal / depth AOVs are not compared).
     out = kauri.render(kauri_scene(desc), spp=spp, resolution=resolution, seed=seed, max_depth=64, max_diffuse=64,
-                       max_glossy=64, max_transmission=64, aovs=False)
+                       max_glossy=64, max_transmission=64, aovs=False, **_kauri_filter(pixel_filter))
     return out.rgba[:, :, :3].astype(np.float64)
 
 
@@ -257,16 +285,17 @@ class CyclesPeer:
         self._n = 0
         self.version = None  # Blender's version string, from the first reply
 
-    def render(self, desc, spp, resolution, seed, threads):
+    def render(self, desc, spp, resolution, seed, threads, pixel_filter="gaussian"):
         import json
         import os
+        _check_filter(pixel_filter)
         name = desc["name"]
         if name not in self._metals:
             self._metals[name] = metal_rgb(desc)
         self._n += 1
         out = os.path.join(self._dir, f"render_{self._n}.npy")
         req = {"scene": name, "spp": int(spp), "res": int(resolution[0]), "seed": int(seed),
-               "threads": int(threads), "metal_rgb": self._metals[name], "out": out}
+               "threads": int(threads), "metal_rgb": self._metals[name], "pixel_filter": pixel_filter, "out": out}
         if resolution[0] != resolution[1]:
             raise ValueError("CyclesPeer renders square images")
         self._proc.stdin.write(json.dumps(req) + "\n")
