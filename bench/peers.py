@@ -216,10 +216,15 @@ def kauri_scene(desc) -> kauri.Scene:
     return _last_kauri_scene[1]
 
 
+# Path-length limits of kauri's renders here: as good as unlimited (Russian roulette ends
+# paths), like Mitsuba's max_depth 65 (to_mitsuba) and Cycles' 64 bounces.
+KAURI_PATH_LIMITS = dict(max_depth=64, max_diffuse=64, max_glossy=64, max_transmission=64)
+
+
 def render_kauri(desc, spp=64, resolution=(64, 64), seed=0, pixel_filter="gaussian"):
     # The beauty alone, like Mitsuba's film here (kauri's albedo / normal / depth AOVs are not compared).
-    out = kauri.render(kauri_scene(desc), spp=spp, resolution=resolution, seed=seed, max_depth=64, max_diffuse=64,
-                       max_glossy=64, max_transmission=64, aovs=False, **_kauri_filter(pixel_filter))
+    out = kauri.render(kauri_scene(desc), spp=spp, resolution=resolution, seed=seed, aovs=False,
+                       **KAURI_PATH_LIMITS, **_kauri_filter(pixel_filter))
     return out.rgba[:, :, :3].astype(np.float64)
 
 

@@ -1036,8 +1036,6 @@ def plot_speed_grid(data, path):
 
 # ---------------------------------------------------------------------------------------
 # Section 3: closeness to the limit (Embree ray replay)
-# Path-length limits as peers.render_kauri uses them (peers.py does not export them).
-KAURI_PATH_LIMITS = dict(max_depth=64, max_diffuse=64, max_glossy=64, max_transmission=64)
 
 
 def section_ray_replay(cfg, names, threads, log):
@@ -1056,7 +1054,7 @@ def section_ray_replay(cfg, names, threads, log):
         try:
             scene = peers.to_kauri(SCENES[name].describe())
             r = kauri.ray_replay(scene, spp=spp, resolution=(res, res), seed=1, threads=threads, aovs=False,
-                                 **KAURI_PATH_LIMITS)
+                                 **peers.KAURI_PATH_LIMITS)
         except Exception as e:  # noqa: BLE001 - reported in the table
             data["scenes"][name] = {"error": f"{type(e).__name__}: {e}"}
             rows.append([name, f"failed: {type(e).__name__}: {e}"[:80]] + [""] * 5)
