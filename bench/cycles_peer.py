@@ -24,10 +24,11 @@ The mapping is the one peers.py makes for Mitsuba, feature by feature:
   each pole, so Cycles' bilinear lookup equals kauri's (wraps in u, constant from the
   first / last row centre to the pole).
 - Camera: pinhole with the horizontal field of view; pixel filter Gaussian with σ = 0.5 px
-  as kauri and Mitsuba here, or a one-pixel box (the agreement checks, see peers.py). Cycles' 'GAUSSIAN' is set by a width, and the width that
-  reproduces σ = 0.5 px was measured: fitting kauri − Cycles (converged cornell, 64×64) as
-  gain + shift + c·∇² gives c = −2.1 at width 6, −0.71 at 4, −0.28 at 3, −0.12 at 2.5,
-  −0.006 at 2 and +0.06 at 1.5; so width 2 (tests/python/test_cycles_peer.py checks it).
+  as kauri and Mitsuba here, or a one-pixel box (the agreement checks, see peers.py).
+  Cycles' 'GAUSSIAN' is set by a width, and the width that reproduces σ = 0.5 px was
+  measured: fitting kauri − Cycles (converged cornell, 64×64) as gain + shift + c·∇² gives
+  c = −2.1 at width 6, −0.71 at 4, −0.28 at 3, −0.12 at 2.5, −0.006 at 2 and +0.06 at 1.5;
+  so width 2 (tests/python/test_cycles_peer.py checks it, and the box).
 - Sampling as Cycles users get it (light tree, its default sampling pattern), without
   adaptive sampling, denoising or clamping; max depth as peers.py gives the others.
 """
@@ -411,9 +412,10 @@ def _describe(name):
 
 def serve(stdin=sys.stdin, stdout=sys.stdout):
     """One JSON request per line: {"scene", "spp", "res", "seed", "threads", "metal_rgb",
-    "pixel_filter" (optional, "gaussian" or "box"), "out"}; renders scene `scenes.<scene>.describe()` (built once while the same scene is
-    asked for), saves the image to `out` (.npy) and answers {"ok", "wall", "cpu"} or
-    {"ok": false, "error"}. Blender's own log goes to stderr."""
+    "pixel_filter" (optional: "gaussian", the default, or "box"), "out"}; renders scene
+    `scenes.<scene>.describe()` (built once while the same scene is asked for), saves the
+    image to `out` (.npy) and answers {"ok", "wall", "cpu"} or {"ok": false, "error"}.
+    Blender's own log goes to stderr."""
     current = None
     for line in stdin:
         if not line.strip():

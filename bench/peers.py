@@ -6,11 +6,12 @@ box filter of one pixel (`pixel_filter`).
 
 The box is the one filter the three renderers reconstruct identically. Mitsuba 3 splats
 with a piecewise-constant table of its Gaussian (`eval_discretized`, 31 steps over the
-radius, looked up at the step below), not the Gaussian itself: relative to the centre its
-weight 1.8 px out is 28% above the Gaussian's and its effective σ is 0.512 px, so next to a bright edge its
-pixels differ from a true Gaussian's by more than noise (tests/python/test_peer_agreement.py
-measures this); Cycles tabulates its filter for importance sampling. The agreement checks
-therefore use the box; the speed comparison uses the Gaussian, kauri's default."""
+radius, looked up at the step below), not the Gaussian itself: relative to the centre, its
+weight 1.8 px out is 28% above the Gaussian's and its effective σ is 0.512 px, so next to
+a bright edge its pixels differ from a true Gaussian's by more than noise
+(tests/python/test_peer_agreement.py measures this); Cycles tabulates its filter for
+importance sampling. The agreement checks therefore use the box; the speed comparison
+uses the Gaussian, kauri's default."""
 from __future__ import annotations
 
 import numpy as np
