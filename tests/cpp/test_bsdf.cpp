@@ -112,36 +112,58 @@ BSDF mixed_bsdf(Vec3 wo) {
   return b;
 }
 
+/// BSDF::sample() against BSDF::pdf() (chi-square over the sphere), its f and pdf against
+/// eval() and pdf() at the sampled direction, and the directional albedo at most 1.
+void expect_bsdf_sampling_consistent(const BSDF& b, Vec3 wo, const std::string& name, uint64_t seed) {
+  double psum = 0;
+  for (int i = 0; i < b.n_lobes; ++i) psum += double(b.select_prob[i]);
+  EXPECT_NEAR(psum, 1, 1e-6) << name;
+  const SampledWavelengths lambda0 = test_wavelengths();
+  int mismatch = 0;
+  auto sample = [&](PCG32& r, Vec3* w) {
+    SampledWavelengths lambda = lambda0;
+    Float uc = r.next_float();
+    BSDFSample s = b.sample(wo, uc, next_2d(r), lambda, TransportMode::Radiance);
+    if (!s.valid()) return false;
+    *w = s.wi;
+    Float p = b.pdf(wo, s.wi);
+    SampledSpectrum f = b.eval(wo, s.wi, TransportMode::Radiance);
+    bool ok = rel_close(double(s.pdf), double(p), 1e-3);
+    for (int i = 0; i < kSpectrumSamples; ++i) ok = ok && rel_close(double(s.f[i]), double(f[i]), 1e-3);
+    if (!ok) ++mismatch;
+    return true;
+  };
+  SphereChi2Config cfg;
+  cfg.name = name + " cos_o=" + fmt(double(wo.z));
+  cfg.forced_cos = {0};
+  cfg.seed = seed;
+  EXPECT_TRUE(test::sphere_chi2(sample, [&](Vec3 w) { return double(b.pdf(wo, w)); }, cfg));
+  EXPECT_EQ(mismatch, 0) << cfg.name << ": sample() disagrees with eval()/pdf()";
+  Albedo a = directional_albedo(b, wo, seed + 50, 200000);
+  for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_LE(a.mean[i], 1 + 3 * a.sigma[i]) << cfg.name;
+}
+
 TEST(BSDF, CombinedSamplingMatchesPdf) {
   uint64_t seed = 300;
+  for (Vec3 wo : {dir(0.70710678f, 0.6f), dir(0.15f, 2.5f)})
+    expect_bsdf_sampling_consistent(mixed_bsdf(wo), wo, "bsdf lambert+2 conductors", seed++);
+}
+
+TEST(BSDF, SingleLobeSampleReturnsEvalAndPdf) {
+  // A lone lobe's sample() result is used as is (no second eval()/pdf() pass): with a
+  // tinted weight, and for a transmitting lobe with a transmission scale below 1.
+  uint64_t seed = 320;
   for (Vec3 wo : {dir(0.70710678f, 0.6f), dir(0.15f, 2.5f)}) {
-    BSDF b = mixed_bsdf(wo);
-    double psum = 0;
-    for (int i = 0; i < b.n_lobes; ++i) psum += double(b.select_prob[i]);
-    EXPECT_NEAR(psum, 1, 1e-6);
-    const SampledWavelengths lambda0 = test_wavelengths();
-    int mismatch = 0;
-    auto sample = [&](PCG32& r, Vec3* w) {
-      SampledWavelengths lambda = lambda0;
-      Float uc = r.next_float();
-      BSDFSample s = b.sample(wo, uc, next_2d(r), lambda, TransportMode::Radiance);
-      if (!s.valid()) return false;
-      *w = s.wi;
-      Float p = b.pdf(wo, s.wi);
-      SampledSpectrum f = b.eval(wo, s.wi, TransportMode::Radiance);
-      bool ok = rel_close(double(s.pdf), double(p), 1e-3);
-      for (int i = 0; i < kSpectrumSamples; ++i) ok = ok && rel_close(double(s.f[i]), double(f[i]), 1e-3);
-      if (!ok) ++mismatch;
-      return true;
-    };
-    SphereChi2Config cfg;
-    cfg.name = "bsdf lambert+2 conductors cos_o=" + fmt(double(wo.z));
-    cfg.forced_cos = {0};
-    cfg.seed = seed++;
-    EXPECT_TRUE(test::sphere_chi2(sample, [&](Vec3 w) { return double(b.pdf(wo, w)); }, cfg));
-    EXPECT_EQ(mismatch, 0) << cfg.name << ": sample() disagrees with eval()/pdf()";
-    Albedo a = directional_albedo(b, wo, seed + 50, 200000);
-    for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_LE(a.mean[i], 1 + 3 * a.sigma[i]);
+    BSDF m;
+    m.ng = {0, 0, 1};
+    m.add(Lobe(metal(0.3f, 0.15f)), spectrum4(0.9f, 0.6f, 0.3f, 0.8f));
+    m.prepare(wo);
+    expect_bsdf_sampling_consistent(m, wo, "bsdf single tinted conductor", seed++);
+    BSDF g;
+    g.ng = {0, 0, 1};
+    g.add(Lobe(RoughDielectricLobe::make(SampledSpectrum(1.5f), 0.25f, 0.25f)), SampledSpectrum(0.8f), 0.5f);
+    g.prepare(wo);
+    expect_bsdf_sampling_consistent(g, wo, "bsdf single rough dielectric, transmission x0.5", seed++);
   }
 }
 

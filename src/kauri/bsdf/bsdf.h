@@ -84,7 +84,6 @@ struct BSDF {
     for (int i = 0; i < n_lobes; ++i) p += select_prob[i] * lobes[i].pdf(wo, wi);
     return p;
   }
-
   /// `uc` picks the lobe (and is reused, rescaled, for the lobe's own discrete choice).
   KAURI_HOST_DEVICE BSDFSample sample(Vec3 wo_world, Float uc, Vec2 u, SampledWavelengths& lambda,
                                       TransportMode mode) const {
@@ -108,8 +107,10 @@ struct BSDF {
     const Float t_chosen = lobe_scale(chosen, wo, s.wi);
     if (t_chosen <= 0) return none;  // energy handed to the layers below
     Vec3 wi_world = frame.to_world(s.wi);
-    if (s.is_specular()) {
-      // A delta lobe cannot be combined with the others: the estimator is its own.
+    if (s.is_specular() || n_lobes == 1) {
+      // A delta lobe cannot be combined with the others: the estimator is its own. A lone
+      // lobe's sample already carries eval() and pdf() at its direction (each lobe's test
+      // checks sample().f == eval() and sample().pdf == pdf()): no second evaluation.
       s.f *= weight[chosen] * t_chosen;
       s.pdf *= select_prob[chosen];
     } else {
