@@ -9,6 +9,7 @@
 #include <string>
 
 #include "chi2.h"
+#include "kauri/bsdf/lobe.h"
 #include "lobe_test_util.h"
 
 namespace kauri::test {
@@ -21,13 +22,13 @@ struct LobeSamplingOptions {
 
 /// Chi-square test of lobe.sample(wo) against lobe.pdf(wo, ·), plus per-sample checks
 /// that sample().f == eval() (wavelengths the sample terminated excepted) and
-/// sample().pdf == pdf() (relative 1e-3), and that a non-delta lobe never returns a
-/// specular sample.
+/// sample().pdf == pdf() (relative 1e-3), that Lobe::eval_pdf() equals eval() and pdf()
+/// (relative 1e-5), and that a non-delta lobe never returns a specular sample.
 template <class L>
 void check_lobe_sampling(const L& lobe, Vec3 wo, const std::string& name, uint64_t seed,
                          const LobeSamplingOptions& o = {}) {
   const SampledWavelengths lambda0 = test_wavelengths();
-  int f_mismatch = 0, pdf_mismatch = 0, specular = 0;
+  int f_mismatch = 0, pdf_mismatch = 0, specular = 0, fused_mismatch = 0;
   double max_f_err = 0, max_pdf_err = 0;
   auto sample = [&](PCG32& r, Vec3* w) {
     SampledWavelengths lambda = lambda0;
@@ -41,6 +42,13 @@ void check_lobe_sampling(const L& lobe, Vec3 wo, const std::string& name, uint64
     max_pdf_err = std::max(max_pdf_err, pe);
     if (pe > 1e-3) ++pdf_mismatch;
     SampledSpectrum f = lobe.eval(wo, s.wi, o.mode);
+    // Lobe::eval_pdf (the lobe's fused form, or eval() and pdf() apart) gives the same pair.
+    Float p_fused;
+    SampledSpectrum f_fused = Lobe(lobe).eval_pdf(wo, s.wi, o.mode, &p_fused);
+    bool fused_ok = std::fabs(double(p_fused) - double(p)) <= 1e-5 * std::max(double(p), 1e-30);
+    for (int i = 0; i < kSpectrumSamples; ++i)
+      fused_ok = fused_ok && std::fabs(double(f_fused[i]) - double(f[i])) <= 1e-5 * std::max(double(f[i]), 1e-30);
+    if (!fused_ok) ++fused_mismatch;
     for (int i = 0; i < kSpectrumSamples; ++i) {
       if (lambda.pdf[i] == 0) continue;  // terminated secondary wavelength
       double fe = std::fabs(double(s.f[i]) - double(f[i])) / std::max(double(f[i]), 1e-30);
@@ -62,6 +70,7 @@ void check_lobe_sampling(const L& lobe, Vec3 wo, const std::string& name, uint64
   EXPECT_EQ(specular, 0) << name << ": a non-delta lobe returned specular samples";
   EXPECT_EQ(f_mismatch, 0) << name << ": sample().f != eval(), max rel. error " << max_f_err;
   EXPECT_EQ(pdf_mismatch, 0) << name << ": sample().pdf != pdf(), max rel. error " << max_pdf_err;
+  EXPECT_EQ(fused_mismatch, 0) << name << ": Lobe::eval_pdf() != (eval(), pdf())";
 }
 
 }  // namespace kauri::test

@@ -84,6 +84,23 @@ struct BSDF {
     for (int i = 0; i < n_lobes; ++i) p += select_prob[i] * lobes[i].pdf(wo, wi);
     return p;
   }
+  /// eval() and pdf() of one direction pair in one pass (next-event estimation needs both),
+  /// sharing each lobe's common terms.
+  KAURI_HOST_DEVICE SampledSpectrum eval_pdf(Vec3 wo_world, Vec3 wi_world, TransportMode mode, Float* pdf_out) const {
+    Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
+    SampledSpectrum f(0);
+    Float p = 0;
+    for (int i = 0; i < n_lobes; ++i) {
+      Float p_i;
+      SampledSpectrum f_i = lobes[i].eval_pdf(wo, wi, mode, &p_i);
+      p += select_prob[i] * p_i;
+      Float t = lobe_scale(i, wo, wi);
+      if (t > 0) f += f_i * weight[i] * t;
+    }
+    *pdf_out = p;
+    if (wo.z == 0) return SampledSpectrum(0);
+    return f * shading_normal_correction(wo_world, wi_world, wi);
+  }
   /// `uc` picks the lobe (and is reused, rescaled, for the lobe's own discrete choice).
   KAURI_HOST_DEVICE BSDFSample sample(Vec3 wo_world, Float uc, Vec2 u, SampledWavelengths& lambda,
                                       TransportMode mode) const {
@@ -118,8 +135,9 @@ struct BSDF {
       s.pdf = 0;
       for (int i = 0; i < n_lobes; ++i) {
         if (lobes[i].scattering() == Scattering::Specular) continue;
-        s.f += lobes[i].eval(wo, s.wi, mode) * weight[i] * lobe_scale(i, wo, s.wi);
-        s.pdf += select_prob[i] * lobes[i].pdf(wo, s.wi);
+        Float p_i;
+        s.f += lobes[i].eval_pdf(wo, s.wi, mode, &p_i) * weight[i] * lobe_scale(i, wo, s.wi);
+        s.pdf += select_prob[i] * p_i;
       }
     }
     s.f *= shading_normal_correction(wo_world, wi_world, s.wi);

@@ -94,33 +94,13 @@ struct GGXConductorLobe {
     ms_cached = true;
   }
 
-  /// Single scattering, Torrance–Sparrow: f = D(ω_m) G(ω_o, ω_i) F(ω_o·ω_m) / (4 cosθ_o cosθ_i);
-  /// both directions in the upper hemisphere.
-  KAURI_HOST_DEVICE SampledSpectrum eval_ss(Vec3 wo, Vec3 wi) const {
-    Float co = wo.z, ci = wi.z;
-    if (co <= 0 || ci <= 0) return SampledSpectrum(0);
-    Vec3 wm = wo + wi;
-    if (length_squared(wm) == 0) return SampledSpectrum(0);
-    wm = normalize(wm);
-    SampledSpectrum F = fresnel_conductor(absdot(wo, wm), eta, k);
-    return F * (mf.D(wm) * mf.G(wo, wi) / (4 * co * ci));
-  }
-  /// f = f_ss + F_ms f_ms with f_ms = (1 − E(μo))(1 − E(μi)) / (π (1 − E_avg)) (Kulla &
+  /// f = f_ss + F_ms f_ms: single scattering (Torrance–Sparrow) f_ss = D(ω_m) G(ω_o, ω_i)
+  /// F(ω_o·ω_m) / (4 cosθ_o cosθ_i) and f_ms = (1 − E(μo))(1 − E(μi)) / (π (1 − E_avg)) (Kulla &
   /// Conty 2017): reciprocal, and E_ss + E_ms = 1 for F = 1. The lobe is mirrored to the
   /// side of ω_o (two-sided shading).
-  KAURI_HOST_DEVICE SampledSpectrum eval(Vec3 wo, Vec3 wi, TransportMode) const {
-    if (!same_hemisphere(wo, wi) || mf.effectively_smooth()) return SampledSpectrum(0);
-    if (wo.z < 0) { wo = -wo; wi = -wi; }
-    if (wo.z == 0 || wi.z == 0) return SampledSpectrum(0);
-    SampledSpectrum f = eval_ss(wo, wi);
-    if (compensate) {
-      Float ea = E_avg();
-      if (ea < 1) {
-        Float ms = (1 - E(wo.z)) * (1 - E(wi.z)) / (kPi * (1 - ea));
-        if (ms > 0) f += F_ms(ea) * ms;
-      }
-    }
-    return f;
+  KAURI_HOST_DEVICE SampledSpectrum eval(Vec3 wo, Vec3 wi, TransportMode mode) const {
+    Float pdf_unused;
+    return eval_pdf(wo, wi, mode, &pdf_unused);
   }
 
   /// Probability of sampling the multiple-scattering (cosine) strategy: 1 − E(μo), its
@@ -144,6 +124,34 @@ struct GGXConductorLobe {
     Float pms = ms_probability(wo);
     return (1 - pms) * pdf_ss(wo, wi) + pms * cosine_hemisphere_pdf(wi.z);
   }
+  /// eval() and pdf() together: ω_m, D(ω_m), Λ(ω_o) and E(μ_o) computed once. The VNDF
+  /// density D_ωo(ω_m)/(4|ω_o·ω_m|) simplifies to G1(ω_o) D(ω_m)/(4 cosθ_o).
+  KAURI_HOST_DEVICE SampledSpectrum eval_pdf(Vec3 wo, Vec3 wi, TransportMode, Float* pdf_out) const {
+    *pdf_out = 0;
+    if (!same_hemisphere(wo, wi) || mf.effectively_smooth()) return SampledSpectrum(0);
+    if (wo.z < 0) { wo = -wo; wi = -wi; }
+    if (wo.z == 0 || wi.z <= 0) return SampledSpectrum(0);
+    SampledSpectrum f(0);
+    Float p_ss = 0;
+    Vec3 wm = wo + wi;
+    if (length_squared(wm) > 0) {
+      wm = normalize(wm);
+      const Float D = mf.D(wm), lambda_o = mf.Lambda(wo);
+      f = fresnel_conductor(absdot(wo, wm), eta, k) * (D / ((1 + lambda_o + mf.Lambda(wi)) * 4 * wo.z * wi.z));
+      p_ss = D / ((1 + lambda_o) * 4 * wo.z);
+    }
+    Float pms = 0;
+    if (compensate) {
+      const Float e_o = E(wo.z), ea = E_avg();
+      if (ea < 1) {
+        Float ms = (1 - e_o) * (1 - E(wi.z)) / (kPi * (1 - ea));
+        if (ms > 0) f += F_ms(ea) * ms;
+      }
+      pms = clamp(1 - e_o, 0, 1);  // ms_probability(wo)
+    }
+    *pdf_out = (1 - pms) * p_ss + pms * cosine_hemisphere_pdf(wi.z);
+    return f;
+  }
   KAURI_HOST_DEVICE BSDFSample sample(Vec3 wo, Float uc, Vec2 u, SampledWavelengths&, TransportMode mode) const {
     BSDFSample s;
     Float flip = wo.z < 0 ? Float(-1) : Float(1);
@@ -166,9 +174,8 @@ struct GGXConductorLobe {
     }
     if (wi_up.z <= 0) return s;  // reflected below the surface: no sample
     s.wi = wi_up * flip;
-    s.pdf = pdf(wo, s.wi);
+    s.f = eval_pdf(wo, s.wi, mode, &s.pdf);
     if (!(s.pdf > 0)) return BSDFSample{};
-    s.f = eval(wo, s.wi, mode);
     s.scattering = Scattering::Glossy;
     return s;
   }

@@ -12,7 +12,20 @@
 #include "kauri/bsdf/sheen.h"
 #include "kauri/bsdf/thin_dielectric.h"
 
+#include <type_traits>
+#include <utility>
+
 namespace kauri {
+
+namespace lobe_detail {
+/// Whether lobe type L has eval_pdf(wo, wi, mode, &pdf).
+template <class L, class = void>
+struct HasEvalPdf : std::false_type {};
+template <class L>
+struct HasEvalPdf<L, std::void_t<decltype(std::declval<const L&>().eval_pdf(Vec3{}, Vec3{}, TransportMode::Radiance,
+                                                                             static_cast<Float*>(nullptr)))>>
+    : std::true_type {};
+}  // namespace lobe_detail
 
 enum class LobeType : uint8_t { Lambert, SmoothDielectric, GGXConductor, DiffuseTransmission, RoughDielectric, ThinDielectric, Sheen,
                                OrenNayar };
@@ -65,6 +78,18 @@ struct Lobe {
   }
   KAURI_HOST_DEVICE Float pdf(Vec3 wo, Vec3 wi) const {
     return dispatch([&](const auto& l) { return l.pdf(wo, wi); });
+  }
+  /// eval() and pdf() of one pair: lobes with shared terms (microfacets) define
+  /// eval_pdf(); the others are evaluated twice.
+  KAURI_HOST_DEVICE SampledSpectrum eval_pdf(Vec3 wo, Vec3 wi, TransportMode m, Float* pdf_out) const {
+    return dispatch([&](const auto& l) -> SampledSpectrum {
+      if constexpr (lobe_detail::HasEvalPdf<std::decay_t<decltype(l)>>::value) {
+        return l.eval_pdf(wo, wi, m, pdf_out);
+      } else {
+        *pdf_out = l.pdf(wo, wi);
+        return l.eval(wo, wi, m);
+      }
+    });
   }
   KAURI_HOST_DEVICE BSDFSample sample(Vec3 wo, Float uc, Vec2 u, SampledWavelengths& lambda, TransportMode m) const {
     return dispatch([&](const auto& l) { return l.sample(wo, uc, u, lambda, m); });

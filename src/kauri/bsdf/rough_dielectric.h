@@ -174,12 +174,33 @@ struct RoughDielectricLobe {
   }
   /// Density of the single-scattering strategy, ω_o up.
   KAURI_HOST_DEVICE Float pdf_ss_up(Vec3 wo, Vec3 wi, Float e) const {
-    Vec3 wm;
-    if (!half_vector(wo, wi, e, &wm)) return 0;
-    const Float dot_o = dot(wo, wm), dot_i = dot(wi, wm);
-    const Float F = fresnel_dielectric(dot_o, e);
-    if (wi.z > 0) return mf.D_visible(wo, wm) / (4 * dot_o) * F;
-    return mf.D_visible(wo, wm) * (1 - F) * e * e * std::fabs(dot_i) / sqr(dot_o + e * dot_i);
+    Float p;
+    ss_up(wo, wi, e, TransportMode::Radiance, &p);
+    return p;
+  }
+
+  /// eval() and pdf() together (non-dispersive η: one half-vector, Fresnel, D and Λ(ω_o)
+  /// serve both); with dispersion, each wavelength has its own half-vector, so the two
+  /// are evaluated apart.
+  KAURI_HOST_DEVICE SampledSpectrum eval_pdf(Vec3 wo, Vec3 wi, TransportMode mode, Float* pdf_out) const {
+    *pdf_out = 0;
+    if (mf.effectively_smooth() || wo.z == 0 || wi.z == 0) return SampledSpectrum(0);
+    if (dispersive()) {
+      *pdf_out = pdf(wo, wi);
+      return eval(wo, wi, mode);
+    }
+    const bool outside = wo.z > 0;
+    if (!outside) { wo = -wo; wi = -wi; }
+    Float p;
+    Float f = ss_up(wo, wi, relative_eta(eta[0], outside), mode, &p);
+    if (compensated()) {
+      f += eval_ms_up(wo, wi, eta[0], outside, mode);
+      Float pms, t;
+      ms_sampling(wo.z, outside, &pms, &t);
+      p = (1 - pms) * p + pms * (wi.z > 0 ? 1 - t : t) * std::fabs(wi.z) * kInvPi;
+    }
+    *pdf_out = p;
+    return SampledSpectrum(f);
   }
 
   /// Samples ω_m from the visible normals of ω_o, then reflects with probability
@@ -223,11 +244,10 @@ struct RoughDielectricLobe {
     }
     const bool reflect_it = wi_up.z > 0;
     s.wi = outside ? wi_up : -wi_up;
-    // Value and density from eval()/pdf() so the three always agree exactly
+    // Value and density as eval()/pdf() give them, so the three always agree exactly
     // (the half-vector recomputed from (ω_o, ω_i) is ω_m up to rounding).
-    s.pdf = pdf(wo, s.wi);
+    s.f = eval_pdf(wo, s.wi, mode, &s.pdf);
     if (!(s.pdf > 0)) return BSDFSample{};
-    s.f = eval(wo, s.wi, mode);
     s.scattering = Scattering::Glossy;
     s.transmission = !reflect_it;
     s.eta = reflect_it ? Float(1) : e;
@@ -310,13 +330,28 @@ struct RoughDielectricLobe {
   /// eq. 99) for both; for refraction this is the usual approximation of the exact
   /// height-correlated form, and it never exceeds G1(ω_o), which bounds the albedo by 1.
   KAURI_HOST_DEVICE Float eval_up(Vec3 wo, Vec3 wi, Float e, TransportMode mode) const {
+    Float p;
+    return ss_up(wo, wi, e, mode, &p);
+  }
+  /// eval_up's value, and the single-scattering density in *pdf_out: the VNDF density
+  /// D_ωo(ω_m) = G1(ω_o) D(ω_m) |ω_o·ω_m| / cosθ_o times the reflect (F) or refract
+  /// (1 − F) probability and the Jacobian of ω_m → ω_i (see pdf()).
+  KAURI_HOST_DEVICE Float ss_up(Vec3 wo, Vec3 wi, Float e, TransportMode mode, Float* pdf_out) const {
+    *pdf_out = 0;
     Vec3 wm;
     if (!half_vector(wo, wi, e, &wm)) return 0;
     const Float dot_o = dot(wo, wm), dot_i = dot(wi, wm);
     const Float F = fresnel_dielectric(dot_o, e);
-    const Float DG = mf.D(wm) * mf.G(wo, wi);
-    if (wi.z > 0) return DG * F / (4 * wo.z * wi.z);
-    Float ft = DG * (1 - F) * dot_o * std::fabs(dot_i) / (wo.z * std::fabs(wi.z) * sqr(dot_o + e * dot_i));
+    const Float D = mf.D(wm), lambda_o = mf.Lambda(wo);
+    const Float DG = D / (1 + lambda_o + mf.Lambda(wi));
+    const Float D_vis = D * dot_o / ((1 + lambda_o) * wo.z);
+    if (wi.z > 0) {
+      *pdf_out = D_vis / (4 * dot_o) * F;
+      return DG * F / (4 * wo.z * wi.z);
+    }
+    const Float denom = sqr(dot_o + e * dot_i);
+    *pdf_out = D_vis * (1 - F) * e * e * std::fabs(dot_i) / denom;
+    Float ft = DG * (1 - F) * dot_o * std::fabs(dot_i) / (wo.z * std::fabs(wi.z) * denom);
     if (mode == TransportMode::Importance) ft *= e * e;
     return ft;
   }

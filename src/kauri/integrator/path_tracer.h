@@ -46,13 +46,14 @@ KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel&
   LightSample ls = sample_light(light, hit.p, u, lambda, kNextEventDensity);
   if (light.material >= 0 && ls.pdf > 0) ls.L = material_emission(s, light.material, ls.n_light, -ls.wi, lambda);
   if (!(ls.pdf > 0) || ls.L.is_black()) return SampledSpectrum(0);
-  SampledSpectrum f = bsdf.eval(wo, ls.wi, TransportMode::Radiance) * absdot(ls.wi, bsdf.frame.z);
+  Float bsdf_pdf;
+  SampledSpectrum f = bsdf.eval_pdf(wo, ls.wi, TransportMode::Radiance, &bsdf_pdf) * absdot(ls.wi, bsdf.frame.z);
   if (f.is_black()) return SampledSpectrum(0);
   ++*rays;
   Ray shadow = ls.infinite ? spawn_ray(hit.p, hit.ng, ls.wi) : spawn_ray_to(hit.p, hit.ng, ls.p_light);
   if (accel.occluded(shadow)) return SampledSpectrum(0);
   Float p_l = pmf * ls.pdf;
-  Float w = ls.delta ? Float(1) : power_heuristic(p_l, bsdf.pdf(wo, ls.wi));
+  Float w = ls.delta ? Float(1) : power_heuristic(p_l, bsdf_pdf);
   return f * ls.L * (w / p_l);
 }
 
