@@ -105,3 +105,21 @@ def test_bad_textures_raise_clear_errors(tmp_path):
     with pytest.raises(kauri.SceneError, match="unknown parameter"):
         kauri.Material.from_dict({"name": "m", "lobes": [{"name": "b", "type": "lambert",
                                                           "albedo": {"texture": missing, "filter": "x"}}]})
+
+
+def test_textured_sphere_reads_its_uv():
+    # A convex Lambertian sphere under a unit sky shows its albedo. Sphere uv: u = φ/2π with
+    # φ = atan2(n_y, n_x); the texture is red for u < 1/4 or u > 3/4 (n_x > 0, the image's
+    # right half) and green between (the left half). Spheres compute this uv only for
+    # materials that read textures (MaterialView::reads_uv), so a lost uv shows here.
+    red, green = (0.8, 0.1, 0.1), (0.1, 0.8, 0.1)
+    tex = np.array([[red, green, green, red]], np.float32)
+    s = kauri.Scene(color_space="srgb")
+    s.add_sphere(center=(0, 0, 0), radius=0.9, material=kauri.Lambert(albedo=kauri.ImageTexture(tex, wrap="repeat")))
+    s.add_sphere(center=(5, 0, 0), radius=0.5, material=kauri.Lambert(albedo=(0.5, 0.5, 0.5)), name="plain")
+    s.add_environment(color=(1, 1, 1))
+    s.set_camera(kind="orthographic", eye=(0, 0, 5), target=(0, 0, 0), up=(0, 1, 0), width=2.0)
+    img = kauri.render(s, spp=64, resolution=(32, 32), max_depth=1, seed=5).rgba[:, :, :3]
+    left, right = img[13:19, 6:10].mean(axis=(0, 1)), img[13:19, 22:26].mean(axis=(0, 1))
+    np.testing.assert_allclose(left, green, rtol=0.05, atol=0.01)
+    np.testing.assert_allclose(right, red, rtol=0.05, atol=0.01)

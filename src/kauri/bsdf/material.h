@@ -99,6 +99,8 @@ struct MaterialView {
   bool roughness_accumulation = false;
   bool has_coat = true;       // the program has a coat node (only coat reads lobe albedos);
                               // set by the compiler, true (always compute) by default
+  bool reads_uv = true;       // a lobe reads an image texture at the hit's uv (spheres and
+                              // disks skip their trigonometric uv otherwise); set by the compiler
 };
 
 namespace material_detail {

@@ -92,27 +92,30 @@ KAURI_HOST_DEVICE inline void triangle_hit(const MeshView& m, uint32_t prim, Flo
   }
 }
 
-KAURI_HOST_DEVICE inline void sphere_hit(const SphereShape& sp, const Ray& r, Float t, SurfaceHit* s) {
+/// `need_uv`: whether the material reads textures (the uv costs an atan2 and an acos).
+KAURI_HOST_DEVICE inline void sphere_hit(const SphereShape& sp, const Ray& r, Float t, bool need_uv, SurfaceHit* s) {
   Point3 p = r.at(t);
   Vec3 n = normalize(p - sp.center);
   s->p = sp.center + n * sp.radius;  // re-project: the hit point lies on the sphere
   s->ng = s->ns = n;
-  s->uv = sphere_uv(n);
+  if (need_uv) s->uv = sphere_uv(n);
   s->dpdu = Vec3{-n.y, n.x, 0};
   if (length_squared(s->dpdu) == 0) s->dpdu = {1, 0, 0};
 }
 
-KAURI_HOST_DEVICE inline void disk_hit(const DiskShape& d, const Ray& r, Float t, SurfaceHit* s) {
+KAURI_HOST_DEVICE inline void disk_hit(const DiskShape& d, const Ray& r, Float t, bool need_uv, SurfaceHit* s) {
   Point3 p = r.at(t);
   Vec3 off = p - d.center;
   s->p = p - d.normal * dot(off, d.normal);  // snap onto the disk plane
   s->ng = s->ns = d.normal;
   Frame f = Frame::from_z(d.normal);
-  Vec3 l = f.to_local(off);
-  Float rr = std::sqrt(l.x * l.x + l.y * l.y) / d.radius;
-  Float phi = std::atan2(l.y, l.x);
-  if (phi < 0) phi += 2 * kPi;
-  s->uv = {phi * kInv2Pi, rr};
+  if (need_uv) {
+    Vec3 l = f.to_local(off);
+    Float rr = std::sqrt(l.x * l.x + l.y * l.y) / d.radius;
+    Float phi = std::atan2(l.y, l.x);
+    if (phi < 0) phi += 2 * kPi;
+    s->uv = {phi * kInv2Pi, rr};
+  }
   s->dpdu = f.x;
 }
 

@@ -296,9 +296,11 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
     v.first_weight = int(c.node_weights_.size());
     v.ior_accumulation = md.ior_accumulation;
     v.roughness_accumulation = md.roughness_accumulation;
+    v.reads_uv = false;
     for (const LobeDesc& l : cm.lobes) {
       c.lobes_.push_back(lobe_params(l, cs, &c.emission_tables_));
       v.emissive = v.emissive || l.emission;
+      v.reads_uv = v.reads_uv || l.albedo_texture >= 0;
     }
     for (const ScalarInputDesc& w : cm.node_weights)
       c.node_weights_.push_back(ScalarInput{int16_t(w.attribute.empty() ? -1 : attribute_slot[w.attribute]), w.value});

@@ -62,10 +62,11 @@ KAURI_HOST_DEVICE inline SurfaceHit compute_surface_hit(const SceneView& s, cons
   const ShapeView& shape = s.groups[I.group].shapes[h.geom];
   Ray r = ray;
   if (!I.identity) r = Ray{I.xf.inverse_point(ray.o), I.xf.inverse_vector(ray.d), ray.tmax};
+  const bool need_uv = shape.material >= 0 && s.materials[shape.material].reads_uv;
   switch (shape.type) {
     case ShapeType::Mesh: triangle_hit(shape.mesh, h.prim, h.u, h.v, &sh); break;
-    case ShapeType::Sphere: sphere_hit(shape.sphere, r, h.t, &sh); break;
-    case ShapeType::Disk: disk_hit(shape.disk, r, h.t, &sh); break;
+    case ShapeType::Sphere: sphere_hit(shape.sphere, r, h.t, need_uv, &sh); break;
+    case ShapeType::Disk: disk_hit(shape.disk, r, h.t, need_uv, &sh); break;
   }
   if (!I.identity) {
     sh.p = I.xf.point(sh.p);
