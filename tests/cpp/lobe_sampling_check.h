@@ -1,5 +1,5 @@
-// Chi-square test of a lobe's sample() against its pdf(), shared by the lobe tests
-// (test_bsdf.cpp, test_lobes_extra.cpp).
+// Chi-square test of a lobe's (or a whole BSDF's) sample() against its pdf(), shared by
+// the lobe and BSDF tests (test_bsdf.cpp, test_lobes_extra.cpp).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -7,9 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "chi2.h"
-#include "kauri/bsdf/lobe.h"
+#include "kauri/bsdf/bsdf.h"
 #include "lobe_test_util.h"
 
 namespace kauri::test {
@@ -42,9 +43,12 @@ void check_lobe_sampling(const L& lobe, Vec3 wo, const std::string& name, uint64
     max_pdf_err = std::max(max_pdf_err, pe);
     if (pe > 1e-3) ++pdf_mismatch;
     SampledSpectrum f = lobe.eval(wo, s.wi, o.mode);
-    // Lobe::eval_pdf (the lobe's fused form, or eval() and pdf() apart) gives the same pair.
+    // eval_pdf (Lobe's: the lobe's fused form, or eval() and pdf() apart; or BSDF's) gives
+    // the same pair.
     Float p_fused;
-    SampledSpectrum f_fused = Lobe(lobe).eval_pdf(wo, s.wi, o.mode, &p_fused);
+    SampledSpectrum f_fused;
+    if constexpr (std::is_same_v<L, BSDF>) f_fused = lobe.eval_pdf(wo, s.wi, o.mode, &p_fused);
+    else f_fused = Lobe(lobe).eval_pdf(wo, s.wi, o.mode, &p_fused);
     bool fused_ok = std::fabs(double(p_fused) - double(p)) <= 1e-5 * std::max(double(p), 1e-30);
     for (int i = 0; i < kSpectrumSamples; ++i)
       fused_ok = fused_ok && std::fabs(double(f_fused[i]) - double(f[i])) <= 1e-5 * std::max(double(f[i]), 1e-30);
@@ -70,7 +74,7 @@ void check_lobe_sampling(const L& lobe, Vec3 wo, const std::string& name, uint64
   EXPECT_EQ(specular, 0) << name << ": a non-delta lobe returned specular samples";
   EXPECT_EQ(f_mismatch, 0) << name << ": sample().f != eval(), max rel. error " << max_f_err;
   EXPECT_EQ(pdf_mismatch, 0) << name << ": sample().pdf != pdf(), max rel. error " << max_pdf_err;
-  EXPECT_EQ(fused_mismatch, 0) << name << ": Lobe::eval_pdf() != (eval(), pdf())";
+  EXPECT_EQ(fused_mismatch, 0) << name << ": eval_pdf() != (eval(), pdf())";
 }
 
 }  // namespace kauri::test

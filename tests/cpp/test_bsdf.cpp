@@ -113,34 +113,16 @@ BSDF mixed_bsdf(Vec3 wo) {
 }
 
 /// BSDF::sample() against BSDF::pdf() (chi-square over the sphere), its f and pdf against
-/// eval() and pdf() at the sampled direction, and the directional albedo at most 1.
+/// eval() and pdf() at the sampled direction, BSDF::eval_pdf against both
+/// (check_lobe_sampling), the selection probabilities summing to 1 and the directional
+/// albedo at most 1.
 void expect_bsdf_sampling_consistent(const BSDF& b, Vec3 wo, const std::string& name, uint64_t seed) {
   double psum = 0;
   for (int i = 0; i < b.n_lobes; ++i) psum += double(b.select_prob[i]);
   EXPECT_NEAR(psum, 1, 1e-6) << name;
-  const SampledWavelengths lambda0 = test_wavelengths();
-  int mismatch = 0;
-  auto sample = [&](PCG32& r, Vec3* w) {
-    SampledWavelengths lambda = lambda0;
-    Float uc = r.next_float();
-    BSDFSample s = b.sample(wo, uc, next_2d(r), lambda, TransportMode::Radiance);
-    if (!s.valid()) return false;
-    *w = s.wi;
-    Float p = b.pdf(wo, s.wi);
-    SampledSpectrum f = b.eval(wo, s.wi, TransportMode::Radiance);
-    bool ok = rel_close(double(s.pdf), double(p), 1e-3);
-    for (int i = 0; i < kSpectrumSamples; ++i) ok = ok && rel_close(double(s.f[i]), double(f[i]), 1e-3);
-    if (!ok) ++mismatch;
-    return true;
-  };
-  SphereChi2Config cfg;
-  cfg.name = name + " cos_o=" + fmt(double(wo.z));
-  cfg.forced_cos = {0};
-  cfg.seed = seed;
-  EXPECT_TRUE(test::sphere_chi2(sample, [&](Vec3 w) { return double(b.pdf(wo, w)); }, cfg));
-  EXPECT_EQ(mismatch, 0) << cfg.name << ": sample() disagrees with eval()/pdf()";
+  check_lobe_sampling(b, wo, name + " cos_o=" + fmt(double(wo.z)), seed);
   Albedo a = directional_albedo(b, wo, seed + 50, 200000);
-  for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_LE(a.mean[i], 1 + 3 * a.sigma[i]) << cfg.name;
+  for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_LE(a.mean[i], 1 + 3 * a.sigma[i]) << name;
 }
 
 TEST(BSDF, CombinedSamplingMatchesPdf) {
