@@ -164,13 +164,15 @@ struct RoughDielectricLobe {
     if (mf.effectively_smooth() || wo.z == 0 || wi.z == 0) return 0;
     const bool outside = wo.z > 0;
     if (!outside) { wo = -wo; wi = -wi; }
-    Float p = pdf_ss_up(wo, wi, relative_eta(eta[0], outside));
-    if (compensated()) {
-      Float pms, t;
-      ms_sampling(wo.z, outside, &pms, &t);
-      p = (1 - pms) * p + pms * (wi.z > 0 ? 1 - t : t) * std::fabs(wi.z) * kInvPi;
-    }
-    return p;
+    return with_ms_pdf(pdf_ss_up(wo, wi, relative_eta(eta[0], outside)), wo, wi, outside);
+  }
+  /// The one-sample mixture with the compensation strategy (ω_o up), from the
+  /// single-scattering density `p_ss`; `p_ss` itself when uncompensated.
+  KAURI_HOST_DEVICE Float with_ms_pdf(Float p_ss, Vec3 wo, Vec3 wi, bool outside) const {
+    if (!compensated()) return p_ss;
+    Float pms, t;
+    ms_sampling(wo.z, outside, &pms, &t);
+    return (1 - pms) * p_ss + pms * (wi.z > 0 ? 1 - t : t) * std::fabs(wi.z) * kInvPi;
   }
   /// Density of the single-scattering strategy, ω_o up.
   KAURI_HOST_DEVICE Float pdf_ss_up(Vec3 wo, Vec3 wi, Float e) const {
@@ -191,15 +193,10 @@ struct RoughDielectricLobe {
     }
     const bool outside = wo.z > 0;
     if (!outside) { wo = -wo; wi = -wi; }
-    Float p;
-    Float f = ss_up(wo, wi, relative_eta(eta[0], outside), mode, &p);
-    if (compensated()) {
-      f += eval_ms_up(wo, wi, eta[0], outside, mode);
-      Float pms, t;
-      ms_sampling(wo.z, outside, &pms, &t);
-      p = (1 - pms) * p + pms * (wi.z > 0 ? 1 - t : t) * std::fabs(wi.z) * kInvPi;
-    }
-    *pdf_out = p;
+    Float p_ss;
+    Float f = ss_up(wo, wi, relative_eta(eta[0], outside), mode, &p_ss);
+    if (compensated()) f += eval_ms_up(wo, wi, eta[0], outside, mode);
+    *pdf_out = with_ms_pdf(p_ss, wo, wi, outside);
     return SampledSpectrum(f);
   }
 
