@@ -148,8 +148,9 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
     PathOutput out;
     trace_path(sv, accel, c.cfg.integrator, ray, lambda, sampler, &out);
     *rays += out.rays;
-    Vec3 direct = sv.to_rgb(sampled_to_xyz(out.L_direct_first, lambda));
-    Vec3 indirect_xyz = sampled_to_xyz(out.L, lambda);
+    const SampledXYZWeights to_xyz(lambda);
+    Vec3 direct = sv.to_rgb(to_xyz(out.L_direct_first));
+    Vec3 indirect_xyz = to_xyz(out.L);
     Vec3 rgb = direct + clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, c.cfg.integrator.clamp);
     if (!is_finite(rgb)) {
       // A NaN/Inf sample is counted and reported, and enters the film as black with
@@ -176,7 +177,7 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
     if (out.albedo_set) {
       // Albedo: the colour of the reflectance under the working space's white.
       SampledSpectrum white = sv.illuminant.sample(lambda);
-      Vec3 num = sampled_to_xyz(out.albedo * white, lambda), den = sampled_to_xyz(white, lambda);
+      Vec3 num = to_xyz(out.albedo * white), den = to_xyz(white);
       if (is_finite(num)) {
         for (int k = 0; k < 3; ++k) {
           px.albedo_xyz[k] += double(num[k]);

@@ -132,6 +132,10 @@ struct Spectrum {
       case SpectrumType::RGBUnbounded:
         for (int i = 0; i < kSpectrumSamples; ++i) s[i] = rgb.scale * rgb.poly(w.lambda[i]);
         return s;
+      case SpectrumType::RGBIlluminant:  // every RGB light and environment
+        for (int i = 0; i < kSpectrumSamples; ++i)
+          s[i] = rgb.scale * rgb.poly(w.lambda[i]) * rgb.illuminant(w.lambda[i]);
+        return s;
       default:
         for (int i = 0; i < kSpectrumSamples; ++i) s[i] = (*this)(w.lambda[i]);
         return s;
@@ -158,16 +162,30 @@ KAURI_HOST_DEVICE inline Vec3 cie_xyz_bar(Float lambda) {
           lerp(f, tables::kCieZ[i], tables::kCieZ[i + 1])};
 }
 
+/// The Monte Carlo weights of XYZ at a path's wavelengths,
+///   c_i = (x̄, ȳ, z̄)(λ_i) / (p(λ_i) · N · ∫ȳ)   (0 where p = 0),
+/// so that XYZ(L) = Σ_i c_i L(λ_i): one table lookup per wavelength serves every
+/// spectrum a sample adds to the film (beauty, its direct part, the albedo AOV).
+struct SampledXYZWeights {
+  Vec3 c[kSpectrumSamples];
+
+  KAURI_HOST_DEVICE explicit SampledXYZWeights(const SampledWavelengths& w) {
+    const Float norm = 1 / (Float(kSpectrumSamples) * tables::kCieYIntegral);
+    for (int i = 0; i < kSpectrumSamples; ++i)
+      c[i] = w.pdf[i] == 0 ? Vec3{} : cie_xyz_bar(w.lambda[i]) * (norm / w.pdf[i]);
+  }
+  KAURI_HOST_DEVICE Vec3 operator()(const SampledSpectrum& L) const {
+    Vec3 xyz;
+    for (int i = 0; i < kSpectrumSamples; ++i) xyz += c[i] * L[i];
+    return xyz;
+  }
+};
+
 /// Film's per-sample XYZ: the Monte Carlo estimate of X = int xbar L dl / CIE_Y_integral
 /// (and Y, Z) from the path's wavelengths, (1/N) sum_i xbar(l_i) L_i / p_i; samples with
 /// pdf 0 (terminated secondaries) contribute nothing.
 KAURI_HOST_DEVICE inline Vec3 sampled_to_xyz(const SampledSpectrum& L, const SampledWavelengths& w) {
-  Vec3 xyz;
-  for (int i = 0; i < kSpectrumSamples; ++i) {
-    if (w.pdf[i] == 0) continue;
-    xyz += cie_xyz_bar(w.lambda[i]) * (L[i] / w.pdf[i]);
-  }
-  return xyz * (1 / (Float(kSpectrumSamples) * tables::kCieYIntegral));
+  return SampledXYZWeights(w)(L);
 }
 
 // ---- host helpers (spectrum.cpp) ----
