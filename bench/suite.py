@@ -786,23 +786,21 @@ def plot_agreement(name, k, m, z, path):
 # ---------------------------------------------------------------------------------------
 # Section 2: speed at equal quality
 
-def _measure_rung(rnd, renderer, desc, spp, res, runs, seed0):
-    """One warm-up render of the configuration (repeated while Dr.Jit still compiles: peers
-    loads a fresh scene per call and the first loads can hash to a different kernel), then
-    `runs` timed renders with independent seeds."""
+def _warm_up(rnd, renderer, desc, spp, res):
+    """One untimed render of the configuration, repeated while Dr.Jit still compiles (peers
+    loads a fresh scene per call and the first loads can hash to a different kernel)."""
     warm = []
     for i in range(4):
         _, call = rnd.render(renderer, desc, spp, res, seed=999_000 + i)
         warm.append(call)
         if call.compile_s == 0.0:
             break
-    imgs, calls = [], []
-    for s in range(runs):
-        img, call = rnd.render(renderer, desc, spp, res, seed=seed0 + s)
-        imgs.append(img)
-        calls.append(call)
+    return warm
+
+
+def _rung_stats(spp, calls, warm):
     walls = [c.wall for c in calls]
-    return np.stack(imgs), {
+    return {
         "spp": spp,
         "time": float(np.median(walls)),
         "times": walls,
@@ -813,6 +811,45 @@ def _measure_rung(rnd, renderer, desc, spp, res, runs, seed0):
         "disk_cache_hit": any(c.disk_hit for c in warm),
         "timed_recompiles": sum(1 for c in calls if c.compile_s > 0),
     }
+
+
+def interleaved_order(renderers, runs):
+    """The timed renders of one rung, as (round, renderer): every renderer once per round,
+    the order rotated by one each round. A slow spell of a shared machine then falls on
+    all renderers alike instead of on whichever ran through it, and no renderer always
+    follows the same one (whose cache footprint it would inherit)."""
+    n = len(renderers)
+    return [(k, renderers[(k + i) % n]) for k in range(runs) for i in range(n)]
+
+
+def _measure_rung(rnd, renderers, desc, spp, res, runs, seed0):
+    """A warm-up per renderer, then `runs` timed renders each with independent seeds, in
+    interleaved_order. Returns {renderer: (images, rung stats)} and {renderer: error}."""
+    warm, failed = {}, {}
+    for r in renderers:
+        try:
+            warm[r] = _warm_up(rnd, r, desc, spp, res)
+        except Exception as e:  # noqa: BLE001 - reported in the tables
+            failed[r] = e
+    imgs, calls = {r: [] for r in renderers}, {r: [] for r in renderers}
+    for k, r in interleaved_order(renderers, runs):
+        if r in failed:
+            continue
+        try:
+            img, call = rnd.render(r, desc, spp, res, seed=seed0 + k)
+        except Exception as e:  # noqa: BLE001
+            failed[r] = e
+            continue
+        imgs[r].append(img)
+        calls[r].append(call)
+    done = {r: (np.stack(imgs[r]), _rung_stats(spp, calls[r], warm[r])) for r in renderers if r not in failed}
+    return done, failed
+
+
+def round_time_ratios(peer_times, kauri_times):
+    """Per-round time_peer / time_kauri of one interleaved rung: (min, median, max)."""
+    q = np.asarray(peer_times, np.float64) / np.asarray(kauri_times, np.float64)
+    return float(q.min()), float(np.median(q)), float(q.max())
 
 
 # The two error scales of section 2: per pixel (the headline metric) and over 4x4-pixel blocks.
@@ -854,25 +891,28 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
                                   for r in renderers}
             continue
         ref_block = to_blocks(ref)
-        for r in renderers:
-            rungs = []
-            try:
-                for spp in cfg.ladder:
-                    t = time.perf_counter()
-                    imgs, rung = _measure_rung(rnd, r, desc, spp, res, runs, seed0=1000 * spp)
-                    rung["relmse"] = {"pixel": relmse_from_runs(imgs, ref),
-                                      "block": relmse_from_runs(to_blocks(imgs), ref_block)}
-                    rungs.append(rung)
-                    log(f"speed {name}: {r:16s} {spp:5d} spp  {rung['time'] * 1e3:8.1f} ms/render  "
-                        f"relMSE {rung['relmse']['pixel']:.3e} (4x4 blocks {rung['relmse']['block']:.3e})  "
-                        f"cpu/wall {rung['cpu_over_wall']:.2f}  first call {rung['first_call_s']:.2f} s  "
-                        f"({time.perf_counter() - t:.1f} s)")
-                fits = {m: fit_renderer(rungs, m, cfg.fit_min_spp) for m in METRICS}
-            except Exception as e:  # noqa: BLE001 - reported in the tables
+        rungs = {r: [] for r in renderers}
+        live = list(renderers)
+        for spp in cfg.ladder:
+            t = time.perf_counter()
+            done, failed = _measure_rung(rnd, live, desc, spp, res, runs, seed0=1000 * spp)
+            for r, e in failed.items():
                 log(f"speed {name}: {r} failed: {type(e).__name__}: {e}")
-                scene["renderers"][r] = {"status": "failed", "reason": f"{type(e).__name__}: {e}", "rungs": rungs}
-                continue
-            scene["renderers"][r] = {"status": "ok", "rungs": rungs, "fit": fits}
+                scene["renderers"][r] = {"status": "failed", "reason": f"{type(e).__name__}: {e}", "rungs": rungs[r]}
+                live.remove(r)
+            for r in live:
+                imgs, rung = done[r]
+                rung["relmse"] = {"pixel": relmse_from_runs(imgs, ref),
+                                  "block": relmse_from_runs(to_blocks(imgs), ref_block)}
+                rungs[r].append(rung)
+                log(f"speed {name}: {r:16s} {spp:5d} spp  {rung['time'] * 1e3:8.1f} ms/render  "
+                    f"relMSE {rung['relmse']['pixel']:.3e} (4x4 blocks {rung['relmse']['block']:.3e})  "
+                    f"cpu/wall {rung['cpu_over_wall']:.2f}  first call {rung['first_call_s']:.2f} s")
+            log(f"speed {name}: {spp} spp rung, {len(live)} renderers interleaved, {time.perf_counter() - t:.1f} s")
+        for r in live:
+            scene["renderers"][r] = {"status": "ok", "rungs": rungs[r],
+                                     "fit": {m: fit_renderer(rungs[r], m, cfg.fit_min_spp) for m in METRICS}}
+        scene["renderers"] = {r: scene["renderers"][r] for r in renderers if r in scene["renderers"]}
         ok = {r: v for r, v in scene["renderers"].items() if v["status"] == "ok"}
         if KAURI in ok:
             for m in METRICS:
@@ -893,7 +933,7 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
     summary = {}
     md = [f"Configuration: {res}×{res} px; spp ladder {', '.join(map(str, cfg.ladder))}; per rung one "
           f"warm-up render (repeated while Dr.Jit still compiled), then {runs} timed renders with independent "
-          f"seeds; time = median wall time of the render call; relMSE denominator: kauri at {cfg.ref_spp} spp; "
+          f"seeds, interleaved (every renderer once per round, the order rotated each round); time = median wall time of the render call; relMSE denominator: kauri at {cfg.ref_spp} spp; "
           f"efficiency c = geometric mean of relMSE × time over rungs ≥ {cfg.fit_min_spp} spp; time to the "
           f"target error t = c / target, target = the relMSE kauri reaches at {cfg.ladder[-1]} spp.",
           "",
@@ -922,6 +962,26 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
         md += [f"### {title}", "",
                "Ratio time_peer / time_kauri to reach the same error (> 1 means kauri is faster):", "", ratio_md, "",
                "Time to reach it (s):", "", ttt_md, ""]
+    # How far the timing alone moves within this run: the rounds of a rung are interleaved,
+    # so round k of every renderer ran within the same few seconds.
+    spread = {}
+    for n in names:
+        ok = {r: v for r, v in data[n]["renderers"].items() if v["status"] == "ok"}
+        if KAURI not in ok:
+            continue
+        kt = ok[KAURI]["rungs"][-1]["times"]
+        spread[n] = {r: round_time_ratios(v["rungs"][-1]["times"], kt) for r, v in ok.items()
+                     if r != KAURI and len(v["rungs"][-1]["times"]) == len(kt)}
+    summary["round_time_ratios"] = spread
+    rows = [[n] + [" / ".join(f"{x:.2f}" for x in spread[n][r]) if r in spread.get(n, {}) else "–" for r in peers_]
+            for n in names]
+    spread_md = md_table(["scene"] + [f"{r} / kauri" for r in peers_], rows)
+    print("\nTop rung, time_peer / time_kauri per interleaved round (min / median / max):\n" + spread_md + "\n",
+          flush=True)
+    md += ["### Timing spread within the run", "",
+           f"Top rung ({cfg.ladder[-1]} spp): the render-time ratio time_peer / time_kauri of each interleaved "
+           "round (min / median / max over the rounds). The equal-error ratios above are this time ratio "
+           "times the renderers' error ratio, so their timing part moves by as much.", "", spread_md, ""]
     # The same without each renderer's fixed per-call cost (scene sync, kernel launch, film
     # set-up): what a long render sees. Cycles re-syncs large meshes on every call.
     for m, title in METRICS.items():

@@ -112,3 +112,40 @@ def test_marginal_efficiency_removes_a_fixed_per_call_cost():
     assert c == pytest.approx(0.2 / 256 * 0.005 * 256)
     assert overhead == pytest.approx(0.3)
     assert suite.efficiency(spp, err, t) > c  # the fitted efficiency carries the overhead
+
+
+def test_interleaved_order_runs_every_renderer_once_per_round_in_rotated_order():
+    rs = ["kauri", "scalar_rgb", "llvm_ad_rgb"]
+    order = suite.interleaved_order(rs, 4)
+    assert len(order) == 12
+    for k in range(4):
+        this_round = [r for (j, r) in order[3 * k:3 * k + 3]]
+        assert all(j == k for (j, _) in order[3 * k:3 * k + 3])
+        assert sorted(this_round) == sorted(rs)
+        assert this_round[0] == rs[k % 3]  # the first place rotates
+    # no renderer always follows the same one
+    followers = {r: {order[i + 1][1] for i in range(len(order) - 1) if order[i][1] == r} for r in rs}
+    assert all(len(f) >= 1 for f in followers.values())
+    assert suite.interleaved_order(["kauri"], 3) == [(0, "kauri"), (1, "kauri"), (2, "kauri")]
+
+
+def test_measure_rung_interleaves_renders_and_drops_a_failing_renderer():
+    calls = []
+
+    class FakeRenderers:
+        def render(self, renderer, desc, spp, res, seed):
+            calls.append((renderer, seed))
+            if renderer == "broken" and seed < 999_000:
+                raise RuntimeError("boom")
+            return np.full((2, 2, 3), seed, np.float64), suite.Call(0.01 if renderer == "kauri" else 0.02, 0.01)
+
+    done, failed = suite._measure_rung(FakeRenderers(), ["kauri", "peer", "broken"], {}, 4, 2, 3, seed0=100)
+    assert set(done) == {"kauri", "peer"} and set(failed) == {"broken"}
+    timed = [c for c in calls if c[1] < 999_000]
+    # round 0: kauri, peer, broken (fails, then is dropped); round 1 starts with peer.
+    assert timed == [("kauri", 100), ("peer", 100), ("broken", 100), ("peer", 101), ("kauri", 101),
+                     ("kauri", 102), ("peer", 102)]
+    imgs, rung = done["kauri"]
+    assert imgs.shape == (3, 2, 2, 3) and list(imgs[:, 0, 0, 0]) == [100, 101, 102]
+    assert rung["spp"] == 4 and rung["time"] == pytest.approx(0.01) and rung["warmups"] == 1
+    assert suite.round_time_ratios(done["peer"][1]["times"], rung["times"]) == pytest.approx((2.0, 2.0, 2.0))
