@@ -265,6 +265,42 @@ LobeDesc conductor_desc(const std::string& name, Float roughness, Float eta = 1.
   return l;
 }
 
+// A single lobe is built straight into the BSDF (evaluate_material's fast path); the
+// general path (taken here because accumulation is on, which changes nothing with one
+// lobe) must give the same BSDF: lobe, weight, and the conductor's compensation cache.
+TEST(LayeredBSDF, SingleLobeFastPathMatchesTheGeneralPath) {
+  SampledWavelengths lambda = SampledWavelengths::sample_visible(0.3f);
+  const Vec3 wo = normalize(Vec3{0.3f, -0.2f, 0.8f});
+  for (int kind = 0; kind < 3; ++kind) {
+    MaterialDesc m;
+    m.name = "one";
+    m.lobes = {kind == 0 ? lambert_desc("a", 0.6f) : conductor_desc("a", kind == 1 ? 0.3f : 0.05f)};
+    m.lobes[0].albedo = {0.2f, 0.5f, 0.8f};
+    Stack fast(m, ColorSpaceId::LinearSRGB);
+    m.ior_accumulation = m.roughness_accumulation = true;
+    Stack general(m, ColorSpaceId::LinearSRGB);
+    ASSERT_FALSE(fast.view.ior_accumulation);
+    BSDF a = build(fast, wo, lambda), b = build(general, wo, lambda);
+    ASSERT_EQ(a.n_lobes, 1);
+    ASSERT_EQ(b.n_lobes, 1);
+    EXPECT_EQ(a.lobes[0].type, b.lobes[0].type);
+    for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_EQ(a.weight[0][i], b.weight[0][i]);
+    EXPECT_EQ(a.select_prob[0], 1);
+    if (kind == 0) EXPECT_NEAR(a.weight[0][0], 0.6f, 1e-6f);
+    if (kind > 0) EXPECT_EQ(a.lobes[0].conductor.ms_cached, b.lobes[0].conductor.ms_cached);
+    for (Vec3 wi : {Vec3{0, 0, 1}, normalize(Vec3{-0.3f, 0.2f, 0.8f}), normalize(Vec3{0.7f, 0.1f, 0.3f})}) {
+      SampledSpectrum fa = a.eval(wo, wi, TransportMode::Radiance), fb = b.eval(wo, wi, TransportMode::Radiance);
+      for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_FLOAT_EQ(fa[i], fb[i]) << "kind " << kind;
+      EXPECT_FLOAT_EQ(a.pdf(wo, wi), b.pdf(wo, wi));
+    }
+  }
+  // A zero weight leaves the BSDF empty, as BSDF::add does.
+  MaterialDesc z;
+  z.name = "zero";
+  z.lobes = {lambert_desc("a", 0.0f)};
+  EXPECT_EQ(build(Stack(z, ColorSpaceId::LinearSRGB), wo, lambda).n_lobes, 0);
+}
+
 TEST(LayeredBSDF, ClearCoatWeightsBaseByFresnelTransmission) {
   MaterialDesc m;
   m.name = "varnish";

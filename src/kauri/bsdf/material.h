@@ -5,6 +5,8 @@
 // weight program (eqs. 3–11) for the current ω_o, and fills the BSDF.
 #pragma once
 
+#include <new>
+
 #include "kauri/bsdf/bsdf.h"
 #include "kauri/layer/layer_program.h"
 #include "kauri/spectral/spectrum.h"
@@ -153,6 +155,15 @@ KAURI_HOST_DEVICE inline void apply_accumulation(Lobe& l, const LayerAbove& abov
   }
 }
 
+/// The lobe of `p` at this point: its albedo from the texture when it has one.
+KAURI_HOST_DEVICE inline Lobe instantiate(const LobeParams& p, const ShadingInputs& sp,
+                                          const SampledWavelengths& lambda) {
+  if (p.a_texture < 0) return p.instantiate(lambda);
+  LobeParams textured = p;
+  textured.a = sp.textures[p.a_texture].albedo(sp.uv);
+  return textured.instantiate(lambda);
+}
+
 }  // namespace material_detail
 
 /// Radiance an emission node (EDF) sends towards local direction `wo`: diffuse, or
@@ -182,17 +193,25 @@ KAURI_HOST_DEVICE inline void evaluate_material(const MaterialView& m, const Lob
   }
   const int n = m.n_lobes < kMaxLayerNodes ? m.n_lobes : kMaxLayerNodes;
   const LobeParams* params = lobe_params + m.first_lobe;
-  Lobe lobes[kMaxLayerNodes];
-  for (int i = 0; i < n; ++i) {
-    if (params[i].emission) continue;
-    if (params[i].a_texture >= 0) {
-      LobeParams p = params[i];
-      p.a = sp.textures[p.a_texture].albedo(sp.uv);
-      lobes[i] = p.instantiate(lambda);
-    } else {
-      lobes[i] = params[i].instantiate(lambda);
+  if (n == 1 && m.front.n_nodes == 1 && !params[0].emission && !m.ior_accumulation && !m.roughness_accumulation) {
+    // One scattering lobe, nothing to accumulate (most materials): its weight is its own
+    // w_b, and it is built in the BSDF's slot (placement new of the prvalue, no copy). A
+    // local Lobe copied into the BSDF cost a store-forwarding stall per hit.
+    if (!bsdf) return;
+    const Float w = clamp(node_weights[m.first_weight].eval(sp.attrs), 0, 1);
+    if (w > 0) {
+      Lobe* l = new (&bsdf->lobes[0]) Lobe(material_detail::instantiate(params[0], sp, lambda));
+      if (l->type == LobeType::GGXConductor) l->conductor.cache_multiple_scattering();
+      bsdf->weight[0] = SampledSpectrum(w);
+      bsdf->transmission[0] = 1;
+      bsdf->n_lobes = 1;
     }
+    bsdf->prepare(wo_world);
+    return;
   }
+  Lobe lobes[kMaxLayerNodes];
+  for (int i = 0; i < n; ++i)
+    if (!params[i].emission) lobes[i] = material_detail::instantiate(params[i], sp, lambda);
 
   // Single-sided stacks: arriving from behind the surface runs the inverse program.
   const LayerProgram& prog = dot(wo_world, ng) < 0 ? m.back : m.front;
