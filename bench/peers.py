@@ -127,8 +127,10 @@ def _kauri_filter(pixel_filter):
         {"filter": "box", "filter_radius": 0.5}
 
 
-def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65, pixel_filter="gaussian"):
-    """A Mitsuba 3 scene dict (load with mi.load_dict after mi.set_variant)."""
+def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65, pixel_filter="gaussian", sampler="independent"):
+    """A Mitsuba 3 scene dict (load with mi.load_dict after mi.set_variant). `sampler`: a
+    Mitsuba sampler plugin; "independent" (Mitsuba's default) takes any spp, the stratified
+    ones ("stratified", "multijitter") round some counts up (squares are kept)."""
     import mitsuba as mi
     cam = desc["camera"]
     d = {"type": "scene",
@@ -137,7 +139,7 @@ def to_mitsuba(desc, spp=64, resolution=(64, 64), max_depth=65, pixel_filter="ga
                     "to_world": mi.ScalarTransform4f().look_at(origin=list(map(float, cam["eye"])),
                                                                target=list(map(float, cam["target"])),
                                                                up=list(map(float, cam["up"]))),
-                    "sampler": {"type": "independent", "sample_count": spp},
+                    "sampler": {"type": sampler, "sample_count": spp},
                     "film": {"type": "hdrfilm", "width": resolution[0], "height": resolution[1],
                              "rfilter": _mitsuba_filter(pixel_filter), "pixel_format": "rgb"}}}
     if "environment" in desc:
@@ -197,10 +199,15 @@ def _ply_file(positions, triangles):
     return path
 
 
-def render_mitsuba(desc, variant="scalar_rgb", spp=64, resolution=(64, 64), seed=0, pixel_filter="gaussian"):
+def render_mitsuba(desc, variant="scalar_rgb", spp=64, resolution=(64, 64), seed=0, pixel_filter="gaussian",
+                   sampler="independent"):
     import mitsuba as mi
     mi.set_variant(variant)
-    scene = mi.load_dict(to_mitsuba(desc, spp, resolution, pixel_filter=pixel_filter))
+    scene = mi.load_dict(to_mitsuba(desc, spp, resolution, pixel_filter=pixel_filter, sampler=sampler))
+    n = scene.sensors()[0].sampler().sample_count()
+    if n != spp:
+        raise ValueError(f"Mitsuba's {sampler!r} sampler renders {n} samples per pixel, not the {spp} asked for "
+                         f"(it rounds some counts up): use a square spp or the 'independent' sampler")
     return np.array(mi.render(scene, seed=seed), dtype=np.float64)
 
 

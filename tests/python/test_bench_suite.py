@@ -133,7 +133,8 @@ def test_measure_rung_interleaves_renders_and_drops_a_failing_renderer():
     calls = []
 
     class FakeRenderers:
-        def render(self, renderer, desc, spp, res, seed):
+        def render(self, renderer, desc, spp, res, seed, mitsuba_sampler="independent"):
+            assert mitsuba_sampler == suite.SPEED_MITSUBA_SAMPLER  # Mitsuba converges as fast as it can
             calls.append((renderer, seed))
             if renderer == "broken" and seed < 999_000:
                 raise RuntimeError("boom")
@@ -149,3 +150,8 @@ def test_measure_rung_interleaves_renders_and_drops_a_failing_renderer():
     assert imgs.shape == (3, 2, 2, 3) and list(imgs[:, 0, 0, 0]) == [100, 101, 102]
     assert rung["spp"] == 4 and rung["time"] == pytest.approx(0.01) and rung["warmups"] == 1
     assert suite.round_time_ratios(done["peer"][1]["times"], rung["times"]) == pytest.approx((2.0, 2.0, 2.0))
+
+
+def test_speed_ladders_are_squares_for_mitsubas_stratified_sampler():
+    for cfg in (suite.QUICK, suite.FULL):
+        assert all(math.isqrt(n) ** 2 == n for n in cfg.ladder), cfg.ladder

@@ -97,3 +97,13 @@ def test_environment_map_scene_agrees_with_mitsuba():
     bound = 5.0 * se + 0.002 * m.mean(0)
     assert np.all(diff < bound), f"worst excess {(diff - bound).max():.4f}, max |z| {(diff / np.maximum(se, 1e-9)).max():.2f}"
     np.testing.assert_allclose(k.mean(axis=(0, 1, 2)), m.mean(axis=(0, 1, 2)), rtol=0.015)
+
+
+def test_mitsuba_stratified_sampler_keeps_the_sample_count():
+    # The speed comparison renders Mitsuba with "multijitter", which rounds some counts up (10 -> 12):
+    # a square count renders as asked, a rounded one is refused rather than timed as if it were.
+    desc = cornell.describe()
+    img = peers.render_mitsuba(desc, "scalar_rgb", 4, (8, 8), seed=1, sampler="multijitter")
+    assert img.shape[:2] == (8, 8) and np.isfinite(img).all()
+    with pytest.raises(ValueError, match="not the 10 asked for"):
+        peers.render_mitsuba(desc, "scalar_rgb", 10, (8, 8), seed=1, sampler="multijitter")
