@@ -11,7 +11,7 @@ from .scene import Scene, SceneError
 
 _RENDER_KEYS = ("spp", "resolution", "seed", "threads", "time_limit", "sampler", "max_depth", "max_diffuse",
                 "max_glossy", "max_transmission", "clamp", "filter", "filter_radius", "filter_sigma", "reconstruction",
-                "progress", "aovs")
+                "progress", "aovs", "light_sampler")
 
 
 @dataclass
@@ -57,7 +57,7 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
            time_limit: float = 0.0, sampler: str = "sobol", max_depth: int = 16, max_diffuse: int = 6,
            max_glossy: int = 8, max_transmission: int = 12, clamp: float = 0.0, filter: str = "gaussian",
            filter_radius: float = 2.0, filter_sigma: float = 0.5, reconstruction: str = "splat",
-           progress: bool = False, aovs: bool = True, **extra) -> RenderOutput:
+           progress: bool = False, aovs: bool = True, light_sampler: str = "tree", **extra) -> RenderOutput:
     """Renders ``scene``; returns a RenderOutput. Stops after ``spp`` samples per pixel or at
     the first pass boundary after ``time_limit`` seconds. Deterministic for a given seed,
     whatever ``threads`` is. The pixel filter is a Gaussian of std-dev ``filter_sigma``
@@ -68,14 +68,19 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
     pixel alone (uncorrelated noise). Data AOVs always average a pixel's own samples.
     ``aovs=False`` renders the beauty alone (no albedo, normal or depth; the first hit's
     albedo is a quadrature for metals, so this is a few percent faster): the image is
-    bit-identical to the one with AOVs."""
+    bit-identical to the one with AOVs. ``light_sampler``: how next-event estimation picks
+    a light: "tree" (default) chooses among area and point lights by a light tree, in
+    proportion to a bound on what each contributes at the shading point (many-light
+    scenes); "power" in proportion to power alone. Environment and distant lights keep
+    their power share either way."""
     if extra:
         raise SceneError(f"render: unknown parameter(s) {', '.join(map(repr, sorted(extra)))}; "
                          f"allowed: {', '.join(_RENDER_KEYS)}")
     w, h = _check_render_args("render", scene, resolution, spp, seed, threads)
     r = _core.render(scene._core, w, h, int(spp), int(seed), int(threads), float(time_limit), sampler,
                      int(max_depth), int(max_diffuse), int(max_glossy), int(max_transmission), float(clamp),
-                     filter, float(filter_radius), float(filter_sigma), reconstruction, bool(progress), bool(aovs))
+                     filter, float(filter_radius), float(filter_sigma), reconstruction, bool(progress), bool(aovs),
+                     light_sampler)
     return RenderOutput(r.rgba, r.albedo, r.normal, r.depth, r.stats, r.color_space, r)
 
 

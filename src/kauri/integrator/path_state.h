@@ -20,6 +20,7 @@ struct IntegratorSettings {
   int rr_min_depth = 5;        // Russian roulette starts after this many bounces
   Float clamp = 0;             // per-sample luminance clamp for indirect light; 0 = off
   bool albedo_aov = true;      // evaluate the first hit's directional albedo (albedo AOV)
+  bool light_tree = true;      // NEE picks finite lights by the light tree (else ∝ power)
 };
 
 enum class ContributionKind : uint8_t { Emission, DirectLight };

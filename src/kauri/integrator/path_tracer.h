@@ -24,24 +24,26 @@ KAURI_HOST_DEVICE inline SampledSpectrum material_emission(const SceneView& s, i
 }
 
 /// Emission reaching the camera along a path segment that ended on an emitter or escaped.
-KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const PathState& st, int light,
-                                                  Vec3 wi, Point3 p_light, Normal3 n_light) {
+KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const IntegratorSettings& cfg,
+                                                  const PathState& st, int light, Vec3 wi, Point3 p_light,
+                                                  Normal3 n_light) {
   if (st.depth == 0 || st.specular_bounce) return 1;
   Float p_light_solid =
-      s.light_pmf(light) * light_pdf(s.lights[light], st.prev_p, wi, p_light, n_light, kNextEventDensity);
+      s.light_pmf(light, st.prev_p, cfg.light_tree) * light_pdf(s.lights[light], st.prev_p, wi, p_light, n_light, kNextEventDensity);
   return power_heuristic(st.prev_pdf, p_light_solid);
 }
 
 /// One next-event estimate from `hit` with the BSDF `bsdf`: `u_light` picks the light,
 /// `u` the point on it.
 template <class Accel>
-KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel& accel, const SurfaceHit& hit,
-                                                const BSDF& bsdf, Vec3 wo, const SampledWavelengths& lambda,
-                                                Float u_light, Vec2 u, uint32_t* rays) {
+KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel& accel, const IntegratorSettings& cfg,
+                                                const SurfaceHit& hit, const BSDF& bsdf, Vec3 wo,
+                                                const SampledWavelengths& lambda, Float u_light, Vec2 u,
+                                                uint32_t* rays) {
   if (s.n_lights == 0) return SampledSpectrum(0);
   Float pmf;
-  int li = s.light_distribution.sample_discrete(u_light, &pmf);
-  if (pmf <= 0) return SampledSpectrum(0);
+  int li = s.select_light(u_light, hit.p, cfg.light_tree, &pmf);
+  if (li < 0 || !(pmf > 0)) return SampledSpectrum(0);
   const Light& light = s.lights[li];
   LightSample ls = sample_light(light, hit.p, u, lambda, kNextEventDensity);
   if (light.material >= 0 && ls.pdf > 0) ls.L = material_emission(s, light.material, ls.n_light, -ls.wi, lambda);
@@ -72,7 +74,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
         int li = s.infinite_lights[i];
         SampledSpectrum Le = infinite_light_Le(s.lights[li], ray.d, lambda);
         if (Le.is_black()) continue;
-        Float w = path_detail::emitter_mis_weight(s, st, li, ray.d, Point3{}, Normal3{});
+        Float w = path_detail::emitter_mis_weight(s, cfg, st, li, ray.d, Point3{}, Normal3{});
         out->add(st.beta * Le * w, st, ContributionKind::Emission);
       }
       break;
@@ -91,7 +93,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
       SampledSpectrum Le = l.material >= 0 ? path_detail::material_emission(s, l.material, hit.ng, wo, lambda)
                                            : area_light_L(l, hit.ng, wo, lambda);
       if (!Le.is_black()) {
-        Float w = path_detail::emitter_mis_weight(s, st, hit.light, ray.d, hit.p, hit.ng);
+        Float w = path_detail::emitter_mis_weight(s, cfg, st, hit.light, ray.d, hit.p, hit.ng);
         out->add(st.beta * Le * w, st, ContributionKind::Emission);
       }
     }
@@ -113,7 +115,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
       Vec2 u_light_point = sampler.get_2d();
       Float u_light = sampler.get_1d();
       SampledSpectrum Ld =
-          path_detail::sample_direct(s, accel, hit, bsdf, wo, lambda, u_light, u_light_point, &out->rays);
+          path_detail::sample_direct(s, accel, cfg, hit, bsdf, wo, lambda, u_light, u_light_point, &out->rays);
       out->add(st.beta * Ld, st, ContributionKind::DirectLight);
     } else {
       sampler.skip_2d();

@@ -237,6 +237,9 @@ class CompiledScene {
   std::vector<std::vector<EnvTexel>> env_texels_;
   std::vector<std::unique_ptr<Distribution2DStorage>> env_distributions_;
   Distribution1DStorage light_distribution_;
+  LightTreeStorage light_tree_;                   // finite lights (light_tree.h)
+  Distribution1DStorage infinite_distribution_;   // infinite lights, ∝ power
+  Float finite_light_share_ = 0;                  // Σ finite power / Σ power
   struct MeshArrays {
     std::vector<Point3> p;  // plus one padding vertex (Embree reads 16 bytes)
     std::vector<Normal3> n;

@@ -457,6 +457,20 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
     Float total = 0;
     for (Float p : power) total += p;
     if (total > 0) c.light_distribution_ = Distribution1DStorage(power);
+    // The light tree chooses among the finite lights in place of their power share.
+    double finite = 0;
+    std::vector<Float> infinite_power;
+    for (size_t i = 0; i < power.size(); ++i) {
+      if (c.lights_[i].is_infinite()) infinite_power.push_back(power[i]);
+      else finite += double(power[i]);
+    }
+    if (total > 0) {
+      c.finite_light_share_ = Float(finite / double(total));
+      c.light_tree_ = build_light_tree(c.lights_, power);
+      double inf_total = 0;
+      for (Float p : infinite_power) inf_total += double(p);
+      if (inf_total > 0) c.infinite_distribution_ = Distribution1DStorage(infinite_power);
+    }
   }
 
   // Camera.
@@ -499,13 +513,17 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   v.light_distribution = c.light_distribution_.view();
   v.infinite_lights = c.infinite_lights_.data();
   v.n_infinite_lights = int(c.infinite_lights_.size());
+  v.light_tree = c.light_tree_.view();
+  v.infinite_distribution = c.infinite_distribution_.view();
+  v.finite_light_share = c.finite_light_share_;
   v.camera = cam;
   v.illuminant = Spectrum::make_dense(*cs.illuminant);
   for (int r = 0; r < 3; ++r)
     for (int k = 0; k < 3; ++k) v.xyz_to_rgb[r][k] = cs.xyz_to_rgb[r][k];
   v.wavelengths = cs.wavelengths;
   c.bytes_ += c.lights_.size() * sizeof(Light) + c.lobes_.size() * sizeof(LobeParams) +
-              c.emitter_first_light_.size() * sizeof(int) + c.light_distribution_.bytes();
+              c.emitter_first_light_.size() * sizeof(int) + c.light_distribution_.bytes() +
+              c.light_tree_.bytes() + c.infinite_distribution_.bytes();
   (void)cs_ptr;
   return out;
 }

@@ -6,6 +6,7 @@
 #include "kauri/camera/camera.h"
 #include "kauri/geometry/shapes.h"
 #include "kauri/light/light.h"
+#include "kauri/light/light_tree.h"
 #include "kauri/spectral/wavelength_sampling.h"
 
 namespace kauri {
@@ -40,6 +41,9 @@ struct SceneView {
   Distribution1D light_distribution;      // light selection ∝ power
   const int* infinite_lights = nullptr;
   int n_infinite_lights = 0;
+  LightTreeView light_tree;               // finite lights ∝ importance at the point
+  Distribution1D infinite_distribution;   // over infinite_lights, ∝ power
+  Float finite_light_share = 0;           // probability that NEE picks a finite light
 
   Camera camera;
   Spectrum illuminant;                    // working-space white, Y = 1 (albedo AOV)
@@ -52,6 +56,31 @@ struct SceneView {
             xyz_to_rgb[2][0] * xyz.x + xyz_to_rgb[2][1] * xyz.y + xyz_to_rgb[2][2] * xyz.z};
   }
   KAURI_HOST_DEVICE Float light_pmf(int light) const { return light_distribution.discrete_pmf(light); }
+
+  /// The light next-event estimation samples from point p, and its probability (*pmf = 0:
+  /// none). `tree`: finite lights through the light tree, with their total power share;
+  /// otherwise every light ∝ power. Infinite lights keep their power share either way.
+  KAURI_HOST_DEVICE int select_light(Float u, Point3 p, bool tree, Float* pmf) const {
+    if (!tree || light_tree.n_nodes == 0) return light_distribution.sample_discrete(u, pmf);
+    const Float F = finite_light_share;
+    if (u < F) {
+      Float pt;
+      const int li = light_tree.sample(fmin_(u / F, kOneMinusEpsilon), p, &pt);
+      *pmf = F * pt;
+      return li;
+    }
+    *pmf = 0;
+    if (n_infinite_lights == 0 || !(infinite_distribution.integral > 0)) return -1;
+    Float pi;
+    const int k = infinite_distribution.sample_discrete(fmin_((u - F) / (1 - F), kOneMinusEpsilon), &pi);
+    *pmf = (1 - F) * pi;
+    return infinite_lights[k];
+  }
+  /// Probability that select_light(·, p, tree) returns `light`.
+  KAURI_HOST_DEVICE Float light_pmf(int light, Point3 p, bool tree) const {
+    if (!tree || light_tree.n_nodes == 0 || lights[light].is_infinite()) return light_distribution.discrete_pmf(light);
+    return finite_light_share * light_tree.pmf(light, p);
+  }
 };
 
 /// Turns an accelerator hit into world-space surface geometry.

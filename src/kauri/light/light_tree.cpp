@@ -1,0 +1,138 @@
+// Host construction of the light tree (see light_tree.h).
+#include "kauri/light/light_tree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "kauri/light/light.h"
+
+namespace kauri {
+namespace {
+
+/// A cone of directions: axis and half-angle θ (θ ≥ π: every direction).
+struct Cone {
+  Vec3 axis{0, 0, 1};
+  Float theta = kPi;
+};
+
+/// Smallest cone (of this construction) holding both: the classic merge of bounding
+/// cones, rotating the wider one's axis towards the other's by half the excess.
+Cone merge(Cone a, Cone b) {
+  if (a.theta >= kPi || b.theta >= kPi) return {a.axis, kPi};
+  if (b.theta > a.theta) std::swap(a, b);
+  const Float theta_d = safe_acos(dot(a.axis, b.axis));
+  if (theta_d + b.theta <= a.theta) return a;
+  const Float theta_o = (a.theta + theta_d + b.theta) / 2;
+  if (theta_o >= kPi) return {a.axis, kPi};
+  const Vec3 k = cross(a.axis, b.axis);
+  if (length_squared(k) < 1e-12f) return {a.axis, kPi};  // opposite axes
+  const Vec3 kn = normalize(k);
+  const Float theta_r = theta_o - a.theta;  // a.axis ⟂ kn: Rodrigues' rotation without the k(k·v) term
+  return {normalize(a.axis * std::cos(theta_r) + cross(kn, a.axis) * std::sin(theta_r)), theta_o};
+}
+
+/// Bounds and normal cone of one light.
+void light_extent(const Light& l, Point3* lo, Point3* hi, Cone* cone) {
+  switch (l.type) {
+    case LightType::Triangle:
+      *lo = vmin(l.p0, vmin(l.p1, l.p2));
+      *hi = vmax(l.p0, vmax(l.p1, l.p2));
+      *cone = l.two_sided ? Cone{l.n, kPi} : Cone{l.n, 0};
+      return;
+    case LightType::Disk:
+    case LightType::Sphere: {
+      const Vec3 r{l.radius, l.radius, l.radius};
+      *lo = l.p0 - r;
+      *hi = l.p0 + r;
+      *cone = (l.type == LightType::Disk && !l.two_sided) ? Cone{l.n, 0} : Cone{l.n, kPi};
+      return;
+    }
+    default:  // point and spot lights: a point, emitting anywhere (a spot's cone is not used)
+      *lo = *hi = l.p0;
+      *cone = Cone{l.n, kPi};
+  }
+}
+
+struct Builder {
+  const std::vector<Light>& lights;
+  const std::vector<Float>& power;
+  std::vector<int> order;  // lights of the tree, permuted by the splits
+  std::vector<Point3> centre;
+  LightTreeStorage out;
+  std::vector<Cone> cones;  // per node, for merging
+  std::vector<Point3> lo, hi;  // per node bounds
+
+  void build(int slot, int begin, int end, int depth, uint32_t trail) {
+    if (depth > 32) throw std::runtime_error("light tree: deeper than its 32-bit trails");
+    if (end - begin == 1) {
+      const int li = order[size_t(begin)];
+      light_extent(lights[size_t(li)], &lo[size_t(slot)], &hi[size_t(slot)], &cones[size_t(slot)]);
+      out.nodes[size_t(slot)].power = power[size_t(li)];
+      out.nodes[size_t(slot)].child = -1 - li;
+      out.trail[size_t(li)] = trail;
+      finish(slot);
+      return;
+    }
+    // Median split of the light centres along the widest axis.
+    Point3 clo = centre[size_t(order[size_t(begin)])], chi = clo;
+    for (int i = begin; i < end; ++i) {
+      clo = vmin(clo, centre[size_t(order[size_t(i)])]);
+      chi = vmax(chi, centre[size_t(order[size_t(i)])]);
+    }
+    const Vec3 ext = chi - clo;
+    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    const int mid = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                     [&](int a, int b) { return centre[size_t(a)][axis] < centre[size_t(b)][axis]; });
+    const int child = int(out.nodes.size());
+    out.nodes.resize(out.nodes.size() + 2);
+    cones.resize(cones.size() + 2);
+    lo.resize(lo.size() + 2);
+    hi.resize(hi.size() + 2);
+    out.nodes[size_t(slot)].child = child;
+    build(child, begin, mid, depth + 1, trail);
+    build(child + 1, mid, end, depth + 1, trail | (1u << depth));
+    lo[size_t(slot)] = vmin(lo[size_t(child)], lo[size_t(child + 1)]);
+    hi[size_t(slot)] = vmax(hi[size_t(child)], hi[size_t(child + 1)]);
+    out.nodes[size_t(slot)].power = out.nodes[size_t(child)].power + out.nodes[size_t(child + 1)].power;
+    cones[size_t(slot)] = merge(cones[size_t(child)], cones[size_t(child + 1)]);
+    finish(slot);
+  }
+  /// The node's bounding sphere and cone, from its bounds and merged cone.
+  void finish(int slot) {
+    LightTreeNode& n = out.nodes[size_t(slot)];
+    const size_t k = size_t(slot);
+    n.centre = (lo[k] + hi[k]) * 0.5f;
+    n.radius2 = length_squared(hi[k] - lo[k]) * 0.25f;
+    n.axis = cones[k].axis;
+    const bool any = cones[k].theta >= kPi;
+    n.cos_theta_o = any ? Float(-1) : std::cos(cones[k].theta);
+    n.sin_theta_o = any ? Float(0) : std::sin(cones[k].theta);
+  }
+};
+
+}  // namespace
+
+LightTreeStorage build_light_tree(const std::vector<Light>& lights, const std::vector<Float>& power) {
+  Builder b{lights, power, {}, {}, {}, {}, {}, {}};
+  b.out.trail.assign(lights.size(), 0);
+  b.centre.resize(lights.size());
+  for (size_t i = 0; i < lights.size(); ++i) {
+    if (lights[i].is_infinite() || !(power[i] > 0)) continue;
+    Point3 lo, hi;
+    Cone cone;
+    light_extent(lights[i], &lo, &hi, &cone);
+    b.centre[i] = (lo + hi) * 0.5f;
+    b.order.push_back(int(i));
+  }
+  if (int(b.order.size()) < kLightTreeMinLights) return std::move(b.out);  // power selection
+  b.out.nodes.resize(1);
+  b.cones.resize(1);
+  b.lo.resize(1);
+  b.hi.resize(1);
+  b.build(0, 0, int(b.order.size()), 0, 0);
+  return std::move(b.out);
+}
+
+}  // namespace kauri

@@ -1,0 +1,141 @@
+// Light tree (light/light_tree.h): a proper distribution over the finite lights at every
+// point, sampled as its pmf says, unbiased for every light with power (the defensive
+// mixture), and preferring lights that contribute more.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "chi2.h"
+#include "kauri/light/light.h"
+#include "kauri/light/light_tree.h"
+#include "kauri/sampler/rng.h"
+
+namespace kauri {
+namespace {
+
+Light triangle_light(Point3 c, Vec3 n, Float size, bool two_sided) {
+  Light l;
+  l.type = LightType::Triangle;
+  const Frame f = Frame::from_z(n);
+  l.p0 = c + f.to_world(Vec3{-size, -size, 0});
+  l.p1 = c + f.to_world(Vec3{size, -size, 0});
+  l.p2 = c + f.to_world(Vec3{0, size, 0});
+  l.n = n;
+  l.two_sided = two_sided;
+  l.area = size * size * 2;
+  return l;
+}
+
+/// 60 small lights of random position, orientation, sidedness and power (one without
+/// power), two spheres, a point light and an environment (which stays outside the tree).
+struct RandomLights {
+  std::vector<Light> lights;
+  std::vector<Float> power;
+  RandomLights() {
+    PCG32 rng(11, 5);
+    auto u = [&] { return Float(rng.next_float()); };
+    for (int i = 0; i < 60; ++i) {
+      const Point3 c{10 * u() - 5, 10 * u() - 5, 10 * u() - 5};
+      const Vec3 n = normalize(Vec3{2 * u() - 1, 2 * u() - 1, 2 * u() - 1 + 1e-3f});
+      lights.push_back(triangle_light(c, n, 0.05f + 0.3f * u(), i % 5 == 0));
+      power.push_back(i == 7 ? Float(0) : 0.1f + 10 * u());
+    }
+    for (int i = 0; i < 2; ++i) {
+      Light s;
+      s.type = LightType::Sphere;
+      s.p0 = {Float(3 * i - 1), 2, 0};
+      s.radius = 0.4f;
+      lights.push_back(s);
+      power.push_back(5);
+    }
+    Light pt;
+    pt.type = LightType::Point;
+    pt.p0 = {0, -3, 1};
+    lights.push_back(pt);
+    power.push_back(3);
+    Light env;
+    env.type = LightType::EnvConstant;
+    lights.push_back(env);
+    power.push_back(100);
+  }
+};
+
+TEST(LightTree, PmfIsADistributionThatKeepsEveryLightWithPower) {
+  RandomLights r;
+  LightTreeStorage t = build_light_tree(r.lights, r.power);
+  const LightTreeView v = t.view();
+  ASSERT_GT(v.n_nodes, 0);
+  PCG32 rng(3, 9);
+  for (int k = 0; k < 50; ++k) {
+    const Point3 p{12 * rng.next_float() - 6, 12 * rng.next_float() - 6, 12 * rng.next_float() - 6};
+    double sum = 0;
+    for (int i = 0; i < int(r.lights.size()); ++i) {
+      const Float pmf = v.pmf(i, p);
+      sum += pmf;
+      if (r.lights[size_t(i)].is_infinite() || !(r.power[size_t(i)] > 0))
+        EXPECT_EQ(pmf, 0) << "light " << i << " is not in the tree";
+      else  // at least the power share of the defensive mixture at every level
+        EXPECT_GT(pmf, 0) << "light " << i << " at point " << k;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-5) << "point " << k;
+  }
+}
+
+TEST(LightTree, SamplesFollowThePmfChiSquare) {
+  RandomLights r;
+  LightTreeStorage t = build_light_tree(r.lights, r.power);
+  const LightTreeView v = t.view();
+  const int n = int(r.lights.size());
+  const Point3 points[] = {{0, 0, 0}, {4.5f, -4.5f, 2}, {-6, 5, -1}};
+  PCG32 rng(test::chi2_seed(21), 2);
+  for (const Point3& p : points) {
+    test::Chi2Table table(test::uniform_edges(0, n, n), test::uniform_edges(0, 1, 1));
+    for (int s = 0; s < 200000; ++s) {
+      Float pmf;
+      const int li = v.sample(rng.next_float(), p, &pmf);
+      ASSERT_GE(li, 0);
+      ASSERT_NEAR(pmf, v.pmf(li, p), 1e-5f * v.pmf(li, p)) << "sample() and pmf() disagree on light " << li;
+      table.add(li + 0.5, 0.5);
+    }
+    auto pdf = [&](double x, double) { return double(v.pmf(int(x), p)); };
+    EXPECT_TRUE(table.test(pdf, "light tree"));
+  }
+}
+
+// A hangar ceiling: 16 × 16 equal lamps facing down. Below one lamp, the tree picks it far
+// more often than a lamp in the far corner, where power alone would pick both alike.
+TEST(LightTree, PrefersTheLampsThatContribute) {
+  std::vector<Light> lights;
+  std::vector<Float> power;
+  for (int i = 0; i < 16; ++i)
+    for (int j = 0; j < 16; ++j) {
+      lights.push_back(triangle_light(Point3{Float(i) - 7.5f, 5, Float(j) - 7.5f}, Vec3{0, -1, 0}, 0.1f, false));
+      power.push_back(1);
+    }
+  LightTreeStorage t = build_light_tree(lights, power);
+  const LightTreeView v = t.view();
+  const Point3 below_first{-7.5f, 0, -7.5f};
+  const Float near = v.pmf(0, below_first), far = v.pmf(255, below_first);
+  EXPECT_GT(near, 10 * far);
+  EXPECT_GT(near, 5.0f / 256);
+  // Above the ceiling every lamp faces away: only the power share is left, spread evenly.
+  const Point3 above{0, 9, 0};
+  EXPECT_NEAR(v.pmf(0, above), 1.0f / 256, 1e-5f);
+}
+
+TEST(LightTree, FewLightsAreLeftToPowerSelection) {
+  std::vector<Light> lights;
+  std::vector<Float> power;
+  for (int i = 0; i < kLightTreeMinLights - 1; ++i) {
+    lights.push_back(triangle_light(Point3{Float(i), 5, 0}, Vec3{0, -1, 0}, 0.1f, false));
+    power.push_back(1);
+  }
+  EXPECT_EQ(build_light_tree(lights, power).view().n_nodes, 0);
+  lights.push_back(triangle_light(Point3{-1, 5, 0}, Vec3{0, -1, 0}, 0.1f, false));
+  power.push_back(1);
+  EXPECT_EQ(build_light_tree(lights, power).view().n_nodes, 2 * kLightTreeMinLights - 1);
+}
+
+}  // namespace
+}  // namespace kauri
