@@ -105,6 +105,7 @@ struct Builder {
     const size_t k = size_t(slot);
     n.centre = (lo[k] + hi[k]) * 0.5f;
     n.radius2 = length_squared(hi[k] - lo[k]) * 0.25f;
+    n.radius = std::sqrt(n.radius2);
     n.axis = cones[k].axis;
     const bool any = cones[k].theta >= kPi;
     n.cos_theta_o = any ? Float(-1) : std::cos(cones[k].theta);

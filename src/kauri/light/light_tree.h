@@ -35,7 +35,7 @@ inline constexpr int kLightTreeMinLights = 16;
 
 struct LightTreeNode {
   Point3 centre;          // of the bounding sphere of the lights' extents
-  Float radius2 = 0;      // its radius²
+  Float radius = 0, radius2 = 0;  // its radius and radius²
   Vec3 axis;              // emission normals lie within θ_o of it
   Float cos_theta_o = -1, sin_theta_o = 0;  // cos −1: any direction (point, sphere, two-sided)
   Float power = 0;        // Σ Φ of the lights below
@@ -49,18 +49,19 @@ KAURI_HOST_DEVICE inline Float light_tree_importance(const LightTreeNode& node, 
   const Vec3 v = p - node.centre;
   const Float d2 = length_squared(v);
   if (d2 <= r2) return node.power / fmax_(r2, Float(1e-12f));  // inside: every direction possible
-  if (node.cos_theta_o <= -1) return node.power / d2;
-  const Float d = std::sqrt(d2);
-  const Float cos_theta = clamp(dot(node.axis, v) / d, -1, 1);
+  const Float inv_d2 = 1 / d2;
+  if (node.cos_theta_o <= -1) return node.power * inv_d2;
+  const Float inv_d = std::sqrt(inv_d2);
+  const Float cos_theta = clamp(dot(node.axis, v) * inv_d, -1, 1);
   const Float sin_theta = safe_sqrt(1 - cos_theta * cos_theta);
   // θ' = max(0, θ − φ) with φ = θ_o + θ_u, by angle-sum identities (no inverse trig).
   const Float cos_o = node.cos_theta_o, sin_o = node.sin_theta_o;
-  const Float sin_u = std::sqrt(r2 / d2), cos_u = safe_sqrt(1 - sin_u * sin_u);
+  const Float sin_u = node.radius * inv_d, cos_u = safe_sqrt(1 - sin_u * sin_u);
   const Float cos_phi = cos_o * cos_u - sin_o * sin_u, sin_phi = sin_o * cos_u + cos_o * sin_u;
   Float cos_p = 1;  // φ ≥ π (sin φ < 0) or θ ≤ φ: the bound allows any direction
   if (sin_phi >= 0 && cos_phi > -1 && cos_theta < cos_phi) cos_p = cos_theta * cos_phi + sin_theta * sin_phi;
   if (cos_p <= 0) return 0;
-  return node.power * cos_p / d2;
+  return node.power * cos_p * inv_d2;
 }
 
 /// Probability of descending into the first child of `node` at p.
@@ -83,19 +84,19 @@ struct LightTreeView {
   KAURI_HOST_DEVICE int sample(Float u, Point3 p, Float* pmf) const {
     *pmf = 0;
     if (n_nodes == 0 || !(nodes[0].power > 0)) return -1;
-    Float prob = 1;
+    // u is not rescaled at each step (a division on the critical path): the interval
+    // [lo, hi) of u that reaches node i is split instead, and the step is branch-free
+    // (the choice is a coin flip the branch predictor cannot learn).
+    Float prob = 1, lo = 0, hi = 1;
     int i = 0;
     while (nodes[i].child >= 0) {
       const Float pa = light_tree_first_child_prob(nodes, nodes[i], p);
-      if (u < pa) {
-        u = fmin_(u / pa, kOneMinusEpsilon);
-        prob *= pa;
-        i = nodes[i].child;
-      } else {
-        u = fmin_((u - pa) / (1 - pa), kOneMinusEpsilon);
-        prob *= 1 - pa;
-        i = nodes[i].child + 1;
-      }
+      const Float split = lo + pa * (hi - lo);
+      const bool second = !(u < split);
+      prob *= second ? 1 - pa : pa;
+      lo = second ? split : lo;
+      hi = second ? hi : split;
+      i = nodes[i].child + (second ? 1 : 0);
     }
     *pmf = prob;
     return -1 - nodes[i].child;
