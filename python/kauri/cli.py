@@ -63,7 +63,7 @@ def _cmd_render(args) -> int:
         result = render(scene, spp=args.spp, resolution=(w, h), seed=args.seed, threads=args.threads,
                         time_limit=args.time_limit, max_depth=args.max_depth, clamp=clamp,
                         sampler=args.sampler, reconstruction=args.reconstruction, progress=not args.quiet,
-                        aovs=not args.no_aovs)
+                        aovs=not args.no_aovs, light_sampler=args.light_sampler)
     except (SceneError, ValueError) as e:
         print(f"kauri: error: {e}", file=sys.stderr)
         return 2
@@ -102,6 +102,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--reconstruction", choices=["splat", "filter_importance"], default="splat",
                    help="pixel reconstruction: splat each sample into the pixels its filter reaches "
                         "(default), or filter importance sampling (one pixel per sample, uncorrelated noise)")
+    r.add_argument("--light-sampler", choices=["tree", "power"], default="tree",
+                   help="light choice of next-event estimation: a light tree, by each light's bound at the "
+                        "shading point (default; used from 16 lights), or in proportion to power")
     r.add_argument("--exposure", type=float, default=0.0, metavar="EV", help="preview exposure in stops")
     r.add_argument("--no-preview", action="store_true", help="do not write the PNG preview")
     r.add_argument("--no-aovs", action="store_true",

@@ -17,7 +17,8 @@ def test_help_lists_commands_and_options():
     assert r.returncode == 0 and "render" in r.stdout
     r = run("render", "--help")
     assert r.returncode == 0
-    for opt in ("--spp", "--res", "--threads", "--seed", "--time-limit", "--no-aovs", "-o", "SCENE"):
+    for opt in ("--spp", "--res", "--threads", "--seed", "--time-limit", "--no-aovs", "--light-sampler", "-o",
+                "SCENE"):
         assert opt in r.stdout
 
 
@@ -57,6 +58,15 @@ def test_render_scene_file_writes_exr_and_png(tmp_path):
     with OpenEXR.File(str(beauty), separate_channels=True) as f, OpenEXR.File(str(out), separate_channels=True) as g:
         assert set(f.channels()) == {"R", "G", "B", "A"}
         np.testing.assert_array_equal(f.channels()["R"].pixels, g.channels()["R"].pixels)
+    # An environment alone: no finite lights, so both light samplers give the same image.
+    power = tmp_path / "power.exr"
+    r = run("render", str(scene), "-o", str(power), "--spp", "4", "--res", "32x24", "--seed", "3", "-q",
+            "--light-sampler", "power")
+    assert r.returncode == 0, r.stderr
+    with OpenEXR.File(str(power), separate_channels=True) as f, OpenEXR.File(str(out), separate_channels=True) as g:
+        np.testing.assert_array_equal(f.channels()["R"].pixels, g.channels()["R"].pixels)
+    r = run("render", str(scene), "-o", str(power), "--light-sampler", "bvh", "-q")
+    assert r.returncode != 0 and "--light-sampler" in r.stderr
 
 
 def test_demo_render_shows_progress(tmp_path):
