@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "kauri/light/light.h"
 
@@ -64,7 +65,7 @@ struct Builder {
   std::vector<Point3> lo, hi;  // per node bounds
 
   void build(int slot, int begin, int end, int depth, uint32_t trail) {
-    if (depth > 32) throw std::runtime_error("light tree: deeper than its 32-bit trails");
+    if (depth > 16) throw std::runtime_error("light tree: deeper than its 32-bit trails (2 bits per level)");
     if (end - begin == 1) {
       const int li = order[size_t(begin)];
       light_extent(lights[size_t(li)], &lo[size_t(slot)], &hi[size_t(slot)], &cones[size_t(slot)]);
@@ -74,7 +75,42 @@ struct Builder {
       finish(slot);
       return;
     }
-    // Median split of the light centres along the widest axis.
+    // Two levels of median splits (widest axis of the light centres) give up to four
+    // groups, the node's children.
+    int bounds[kLightTreeArity + 1];
+    int n = 0;
+    bounds[n++] = begin;
+    const int mid = split(begin, end);
+    for (auto [b, e] : {std::pair{begin, mid}, std::pair{mid, end}}) {
+      if (e - b >= 2) bounds[n++] = split(b, e);
+      if (e != end) bounds[n++] = e;
+    }
+    bounds[n] = end;
+    const int child = int(out.nodes.size());
+    out.nodes.resize(out.nodes.size() + size_t(n));
+    cones.resize(cones.size() + size_t(n));
+    lo.resize(lo.size() + size_t(n));
+    hi.resize(hi.size() + size_t(n));
+    out.nodes[size_t(slot)].child = child;
+    out.nodes[size_t(slot)].n_children = n;
+    for (int k = 0; k < n; ++k) build(child + k, bounds[k], bounds[k + 1], depth + 1, trail | (uint32_t(k) << (2 * depth)));
+    Float total = 0;
+    Cone cone = cones[size_t(child)];
+    lo[size_t(slot)] = lo[size_t(child)];
+    hi[size_t(slot)] = hi[size_t(child)];
+    for (int k = 0; k < n; ++k) {
+      const size_t c = size_t(child + k);
+      total += out.nodes[c].power;
+      lo[size_t(slot)] = vmin(lo[size_t(slot)], lo[c]);
+      hi[size_t(slot)] = vmax(hi[size_t(slot)], hi[c]);
+      if (k > 0) cone = merge(cone, cones[c]);
+    }
+    out.nodes[size_t(slot)].power = total;
+    cones[size_t(slot)] = cone;
+    finish(slot);
+  }
+  /// Median split of order[begin, end) along the widest axis of the light centres.
+  int split(int begin, int end) {
     Point3 clo = centre[size_t(order[size_t(begin)])], chi = clo;
     for (int i = begin; i < end; ++i) {
       clo = vmin(clo, centre[size_t(order[size_t(i)])]);
@@ -85,19 +121,7 @@ struct Builder {
     const int mid = begin + (end - begin) / 2;
     std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
                      [&](int a, int b) { return centre[size_t(a)][axis] < centre[size_t(b)][axis]; });
-    const int child = int(out.nodes.size());
-    out.nodes.resize(out.nodes.size() + 2);
-    cones.resize(cones.size() + 2);
-    lo.resize(lo.size() + 2);
-    hi.resize(hi.size() + 2);
-    out.nodes[size_t(slot)].child = child;
-    build(child, begin, mid, depth + 1, trail);
-    build(child + 1, mid, end, depth + 1, trail | (1u << depth));
-    lo[size_t(slot)] = vmin(lo[size_t(child)], lo[size_t(child + 1)]);
-    hi[size_t(slot)] = vmax(hi[size_t(child)], hi[size_t(child + 1)]);
-    out.nodes[size_t(slot)].power = out.nodes[size_t(child)].power + out.nodes[size_t(child + 1)].power;
-    cones[size_t(slot)] = merge(cones[size_t(child)], cones[size_t(child + 1)]);
-    finish(slot);
+    return mid;
   }
   /// The node's bounding sphere and cone, from its bounds and merged cone.
   void finish(int slot) {

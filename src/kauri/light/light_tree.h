@@ -26,6 +26,10 @@
 
 namespace kauri {
 
+/// Children per node. Four, not two: a level's four bounds are independent (the core
+/// computes them side by side) and the tree is half as deep, so a descent waits on half as
+/// many dependent steps (288 lights: 5 levels instead of 9).
+inline constexpr int kLightTreeArity = 4;
 /// Share of each choice that follows power alone (the defensive mixture above).
 inline constexpr Float kLightTreePowerShare = 0.1f;
 /// Fewer finite lights than this are chosen by power: a tree of a few lights costs more
@@ -39,7 +43,8 @@ struct LightTreeNode {
   Vec3 axis;              // emission normals lie within θ_o of it
   Float cos_theta_o = -1, sin_theta_o = 0;  // cos −1: any direction (point, sphere, two-sided)
   Float power = 0;        // Σ Φ of the lights below
-  int child = -1;         // internal: first child (the second is child + 1); leaf: −1 − light
+  int child = -1;         // internal: first child (the others follow it); leaf: −1 − light
+  int n_children = 0;     // internal: 2 … kLightTreeArity
 };
 
 /// I = Φ cos θ' / d² of `node` at point p (see the header).
@@ -64,20 +69,30 @@ KAURI_HOST_DEVICE inline Float light_tree_importance(const LightTreeNode& node, 
   return node.power * cos_p * inv_d2;
 }
 
-/// Probability of descending into the first child of `node` at p.
-KAURI_HOST_DEVICE inline Float light_tree_first_child_prob(const LightTreeNode* nodes, const LightTreeNode& node,
-                                                           Point3 p) {
-  const LightTreeNode& a = nodes[node.child];
-  const LightTreeNode& b = nodes[node.child + 1];
-  const Float pa = a.power / (a.power + b.power);
-  const Float ia = light_tree_importance(a, p), ib = light_tree_importance(b, p);
-  const Float ta = ia + ib > 0 ? ia / (ia + ib) : pa;
-  return (1 - kLightTreePowerShare) * ta + kLightTreePowerShare * pa;
+/// Probabilities of descending into each child of `node` at p (kLightTreeArity entries,
+/// zero past n_children).
+KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode* nodes, const LightTreeNode& node, Point3 p,
+                                                     Float prob[kLightTreeArity]) {
+  Float imp[kLightTreeArity], phi[kLightTreeArity];
+  Float imp_sum = 0, pow_sum = 0;
+  for (int k = 0; k < kLightTreeArity; ++k) {
+    const bool live = k < node.n_children;
+    const LightTreeNode& c = nodes[node.child + (live ? k : 0)];
+    imp[k] = live ? light_tree_importance(c, p) : Float(0);
+    phi[k] = live ? c.power : Float(0);
+    imp_sum += imp[k];
+    pow_sum += phi[k];
+  }
+  const Float inv_imp = imp_sum > 0 ? 1 / imp_sum : Float(0), inv_pow = 1 / pow_sum;
+  for (int k = 0; k < kLightTreeArity; ++k) {
+    const Float share = phi[k] * inv_pow;
+    prob[k] = (1 - kLightTreePowerShare) * (imp_sum > 0 ? imp[k] * inv_imp : share) + kLightTreePowerShare * share;
+  }
 }
 
 struct LightTreeView {
   const LightTreeNode* nodes = nullptr;  // nodes[0] is the root
-  const uint32_t* trail = nullptr;       // per light: bit k = 1 if the k-th step takes the second child
+  const uint32_t* trail = nullptr;       // per light: 2 bits per level, the child taken
   int n_nodes = 0;
 
   /// A finite light chosen at p; *pmf its probability (0 if the tree has no power).
@@ -85,18 +100,27 @@ struct LightTreeView {
     *pmf = 0;
     if (n_nodes == 0 || !(nodes[0].power > 0)) return -1;
     // u is not rescaled at each step (a division on the critical path): the interval
-    // [lo, hi) of u that reaches node i is split instead, and the step is branch-free
-    // (the choice is a coin flip the branch predictor cannot learn).
-    Float prob = 1, lo = 0, hi = 1;
+    // [lo, hi) of u that reaches node i is split instead, without branches (the choice is
+    // a draw the branch predictor cannot learn).
+    Float prob = 1, lo = 0;
+    Float width = 1;
     int i = 0;
     while (nodes[i].child >= 0) {
-      const Float pa = light_tree_first_child_prob(nodes, nodes[i], p);
-      const Float split = lo + pa * (hi - lo);
-      const bool second = !(u < split);
-      prob *= second ? 1 - pa : pa;
-      lo = second ? split : lo;
-      hi = second ? hi : split;
-      i = nodes[i].child + (second ? 1 : 0);
+      Float pk[kLightTreeArity];
+      light_tree_child_probs(nodes, nodes[i], p, pk);
+      int chosen = 0;
+      Float start = lo, taken = pk[0];
+      for (int k = 1; k < kLightTreeArity; ++k) {
+        const Float edge = start + taken * width;
+        const bool beyond = k < nodes[i].n_children && pk[k] > 0 && !(u < edge);
+        chosen = beyond ? k : chosen;
+        start = beyond ? edge : start;
+        taken = beyond ? pk[k] : taken;
+      }
+      prob *= taken;
+      lo = start;
+      width *= taken;
+      i = nodes[i].child + chosen;
     }
     *pmf = prob;
     return -1 - nodes[i].child;
@@ -107,11 +131,13 @@ struct LightTreeView {
     const uint32_t bits = trail[light];
     Float prob = 1;
     int i = 0;
-    for (int k = 0; nodes[i].child >= 0; ++k) {
-      const Float pa = light_tree_first_child_prob(nodes, nodes[i], p);
-      const bool second = (bits >> k) & 1u;
-      prob *= second ? 1 - pa : pa;
-      i = nodes[i].child + (second ? 1 : 0);
+    for (int level = 0; nodes[i].child >= 0; ++level) {
+      Float pk[kLightTreeArity];
+      light_tree_child_probs(nodes, nodes[i], p, pk);
+      const int k = int((bits >> (2 * level)) & 3u);
+      if (k >= nodes[i].n_children) return 0;
+      prob *= pk[k];
+      i = nodes[i].child + k;
     }
     return -1 - nodes[i].child == light ? prob : 0;
   }
