@@ -134,7 +134,7 @@ TEST(LightTree, FewLightsAreLeftToPowerSelection) {
   EXPECT_EQ(build_light_tree(lights, power).view().n_nodes, 0);
   lights.push_back(triangle_light(Point3{-1, 5, 0}, Vec3{0, -1, 0}, 0.1f, false));
   power.push_back(1);
-  EXPECT_EQ(build_light_tree(lights, power).view().n_nodes, 1 + 4 + 16);  // 16 lights: root, 4 inner, 16 leaves
+  EXPECT_EQ(build_light_tree(lights, power).view().n_nodes, 1 + 4);  // 16 lights: the root's 4 lanes, 4 lanes each below
 }
 
 }  // namespace

@@ -55,28 +55,34 @@ void light_extent(const Light& l, Point3* lo, Point3* hi, Cone* cone) {
   }
 }
 
+/// What a subtree offers its parent: bounds, cone, power, and where it lives.
+struct Summary {
+  Point3 lo, hi;
+  Cone cone;
+  Float power = 0;
+  int child = 0;  // ≥ 0: its node; < 0: −1 − light
+};
+
 struct Builder {
   const std::vector<Light>& lights;
   const std::vector<Float>& power;
   std::vector<int> order;  // lights of the tree, permuted by the splits
   std::vector<Point3> centre;
   LightTreeStorage out;
-  std::vector<Cone> cones;  // per node, for merging
-  std::vector<Point3> lo, hi;  // per node bounds
 
-  void build(int slot, int begin, int end, int depth, uint32_t trail) {
+  Summary build(int begin, int end, int depth, uint32_t trail) {
     if (depth > 16) throw std::runtime_error("light tree: deeper than its 32-bit trails (2 bits per level)");
+    Summary s;
     if (end - begin == 1) {
       const int li = order[size_t(begin)];
-      light_extent(lights[size_t(li)], &lo[size_t(slot)], &hi[size_t(slot)], &cones[size_t(slot)]);
-      out.nodes[size_t(slot)].power = power[size_t(li)];
-      out.nodes[size_t(slot)].child = -1 - li;
+      light_extent(lights[size_t(li)], &s.lo, &s.hi, &s.cone);
+      s.power = power[size_t(li)];
+      s.child = -1 - li;
       out.trail[size_t(li)] = trail;
-      finish(slot);
-      return;
+      return s;
     }
     // Two levels of median splits (widest axis of the light centres) give up to four
-    // groups, the node's children.
+    // groups, the node's lanes.
     int bounds[kLightTreeArity + 1];
     int n = 0;
     bounds[n++] = begin;
@@ -86,28 +92,37 @@ struct Builder {
       if (e != end) bounds[n++] = e;
     }
     bounds[n] = end;
-    const int child = int(out.nodes.size());
-    out.nodes.resize(out.nodes.size() + size_t(n));
-    cones.resize(cones.size() + size_t(n));
-    lo.resize(lo.size() + size_t(n));
-    hi.resize(hi.size() + size_t(n));
-    out.nodes[size_t(slot)].child = child;
-    out.nodes[size_t(slot)].n_children = n;
-    for (int k = 0; k < n; ++k) build(child + k, bounds[k], bounds[k + 1], depth + 1, trail | (uint32_t(k) << (2 * depth)));
-    Float total = 0;
-    Cone cone = cones[size_t(child)];
-    lo[size_t(slot)] = lo[size_t(child)];
-    hi[size_t(slot)] = hi[size_t(child)];
+    const int node = int(out.nodes.size());
+    out.nodes.emplace_back();
+    LightTreeNode lanes{};
+    for (int k = 0; k < kLightTreeArity; ++k) lanes.cos_o[k] = -1;
     for (int k = 0; k < n; ++k) {
-      const size_t c = size_t(child + k);
-      total += out.nodes[c].power;
-      lo[size_t(slot)] = vmin(lo[size_t(slot)], lo[c]);
-      hi[size_t(slot)] = vmax(hi[size_t(slot)], hi[c]);
-      if (k > 0) cone = merge(cone, cones[c]);
+      const Summary c = build(bounds[k], bounds[k + 1], depth + 1, trail | (uint32_t(k) << (2 * depth)));
+      set_lane(&lanes, k, c);
+      s.lo = k == 0 ? c.lo : vmin(s.lo, c.lo);
+      s.hi = k == 0 ? c.hi : vmax(s.hi, c.hi);
+      s.cone = k == 0 ? c.cone : merge(s.cone, c.cone);
+      s.power += c.power;
     }
-    out.nodes[size_t(slot)].power = total;
-    cones[size_t(slot)] = cone;
-    finish(slot);
+    out.nodes[size_t(node)] = lanes;  // after the recursion: emplace_back may have moved it
+    s.child = node;
+    return s;
+  }
+  static void set_lane(LightTreeNode* n, int k, const Summary& c) {
+    const Point3 centre = (c.lo + c.hi) * 0.5f;
+    n->cx[k] = centre.x;
+    n->cy[k] = centre.y;
+    n->cz[k] = centre.z;
+    n->radius2[k] = std::max(length_squared(c.hi - c.lo) * 0.25f, Float(1e-12f));
+    n->radius[k] = std::sqrt(n->radius2[k]);
+    n->ax[k] = c.cone.axis.x;
+    n->ay[k] = c.cone.axis.y;
+    n->az[k] = c.cone.axis.z;
+    const bool any = c.cone.theta >= kPi;
+    n->cos_o[k] = any ? Float(-1) : std::cos(c.cone.theta);
+    n->sin_o[k] = any ? Float(0) : std::sin(c.cone.theta);
+    n->power[k] = c.power;
+    n->child[k] = c.child;
   }
   /// Median split of order[begin, end) along the widest axis of the light centres.
   int split(int begin, int end) {
@@ -123,24 +138,12 @@ struct Builder {
                      [&](int a, int b) { return centre[size_t(a)][axis] < centre[size_t(b)][axis]; });
     return mid;
   }
-  /// The node's bounding sphere and cone, from its bounds and merged cone.
-  void finish(int slot) {
-    LightTreeNode& n = out.nodes[size_t(slot)];
-    const size_t k = size_t(slot);
-    n.centre = (lo[k] + hi[k]) * 0.5f;
-    n.radius2 = length_squared(hi[k] - lo[k]) * 0.25f;
-    n.radius = std::sqrt(n.radius2);
-    n.axis = cones[k].axis;
-    const bool any = cones[k].theta >= kPi;
-    n.cos_theta_o = any ? Float(-1) : std::cos(cones[k].theta);
-    n.sin_theta_o = any ? Float(0) : std::sin(cones[k].theta);
-  }
 };
 
 }  // namespace
 
 LightTreeStorage build_light_tree(const std::vector<Light>& lights, const std::vector<Float>& power) {
-  Builder b{lights, power, {}, {}, {}, {}, {}, {}};
+  Builder b{lights, power, {}, {}, {}};
   b.out.trail.assign(lights.size(), 0);
   b.centre.resize(lights.size());
   for (size_t i = 0; i < lights.size(); ++i) {
@@ -152,11 +155,7 @@ LightTreeStorage build_light_tree(const std::vector<Light>& lights, const std::v
     b.order.push_back(int(i));
   }
   if (int(b.order.size()) < kLightTreeMinLights) return std::move(b.out);  // power selection
-  b.out.nodes.resize(1);
-  b.cones.resize(1);
-  b.lo.resize(1);
-  b.hi.resize(1);
-  b.build(0, 0, int(b.order.size()), 0, 0);
+  b.build(0, int(b.order.size()), 0, 0);
   return std::move(b.out);
 }
 

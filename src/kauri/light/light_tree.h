@@ -19,6 +19,8 @@
 // next-event estimation and the MIS weight of an emitter hit see the same density.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -26,9 +28,8 @@
 
 namespace kauri {
 
-/// Children per node. Four, not two: a level's four bounds are independent (the core
-/// computes them side by side) and the tree is half as deep, so a descent waits on half as
-/// many dependent steps (288 lights: 5 levels instead of 9).
+/// Children per node. Four, not two: a node's four bounds are computed as one 4-wide
+/// vector operation, and the tree is half as deep (288 lights: 5 levels instead of 9).
 inline constexpr int kLightTreeArity = 4;
 /// Share of each choice that follows power alone (the defensive mixture above).
 inline constexpr Float kLightTreePowerShare = 0.1f;
@@ -37,82 +38,86 @@ inline constexpr Float kLightTreePowerShare = 0.1f;
 /// (a quad light is two triangles with the same bounds, which a tree cannot tell apart).
 inline constexpr int kLightTreeMinLights = 16;
 
+/// The (up to) kLightTreeArity children of one inner node, lane by lane (structure of
+/// arrays), so that their four importance bounds are computed as one vector operation.
+/// Per lane: the bounding sphere of the child's lights, the cone bounding their emission
+/// normals (cos θ_o = −1: any direction: points, spheres, two-sided lights) and their power.
 struct LightTreeNode {
-  Point3 centre;          // of the bounding sphere of the lights' extents
-  Float radius = 0, radius2 = 0;  // its radius and radius²
-  Vec3 axis;              // emission normals lie within θ_o of it
-  Float cos_theta_o = -1, sin_theta_o = 0;  // cos −1: any direction (point, sphere, two-sided)
-  Float power = 0;        // Σ Φ of the lights below
-  int child = -1;         // internal: first child (the others follow it); leaf: −1 − light
-  int n_children = 0;     // internal: 2 … kLightTreeArity
+  Float cx[kLightTreeArity], cy[kLightTreeArity], cz[kLightTreeArity];
+  Float radius[kLightTreeArity], radius2[kLightTreeArity];  // radius2 ≥ 1e-12 (points, too)
+  Float ax[kLightTreeArity], ay[kLightTreeArity], az[kLightTreeArity];
+  Float cos_o[kLightTreeArity], sin_o[kLightTreeArity];
+  Float power[kLightTreeArity];  // 0 in unused lanes
+  int child[kLightTreeArity];    // ≥ 0: the node of that child's children; < 0: −1 − light
 };
 
-/// I = Φ cos θ' / d² of `node` at point p (see the header).
-KAURI_HOST_DEVICE inline Float light_tree_importance(const LightTreeNode& node, Point3 p) {
-  if (!(node.power > 0)) return 0;
-  const Float r2 = node.radius2;
-  const Vec3 v = p - node.centre;
-  const Float d2 = length_squared(v);
-  if (d2 <= r2) return node.power / fmax_(r2, Float(1e-12f));  // inside: every direction possible
-  const Float inv_d2 = 1 / d2;
-  if (node.cos_theta_o <= -1) return node.power * inv_d2;
-  const Float inv_d = std::sqrt(inv_d2);
-  const Float cos_theta = clamp(dot(node.axis, v) * inv_d, -1, 1);
-  const Float sin_theta = safe_sqrt(1 - cos_theta * cos_theta);
-  // θ' = max(0, θ − φ) with φ = θ_o + θ_u, by angle-sum identities (no inverse trig).
-  const Float cos_o = node.cos_theta_o, sin_o = node.sin_theta_o;
-  const Float sin_u = node.radius * inv_d, cos_u = safe_sqrt(1 - sin_u * sin_u);
-  const Float cos_phi = cos_o * cos_u - sin_o * sin_u, sin_phi = sin_o * cos_u + cos_o * sin_u;
-  Float cos_p = 1;  // φ ≥ π (sin φ < 0) or θ ≤ φ: the bound allows any direction
-  if (sin_phi >= 0 && cos_phi > -1 && cos_theta < cos_phi) cos_p = cos_theta * cos_phi + sin_theta * sin_phi;
-  if (cos_p <= 0) return 0;
-  return node.power * cos_p * inv_d2;
+/// I_k = Φ cos θ' / d² for every lane k of `node` at point p (see the header), branch-free
+/// so that the compiler evaluates the lanes side by side.
+KAURI_HOST_DEVICE inline void light_tree_importance(const LightTreeNode& n, Point3 p, Float imp[kLightTreeArity]) {
+  for (int k = 0; k < kLightTreeArity; ++k) {
+    const Float vx = p.x - n.cx[k], vy = p.y - n.cy[k], vz = p.z - n.cz[k];
+    const Float d2 = vx * vx + vy * vy + vz * vz, r2 = n.radius2[k];
+    const Float inv_d2 = 1 / std::max(d2, r2);  // r2 > 0 (the builder's floor)
+    const Float inv_d = std::sqrt(inv_d2);
+    const Float cos_theta = (n.ax[k] * vx + n.ay[k] * vy + n.az[k] * vz) * inv_d;  // |·| ≤ 1 up to rounding
+    const Float sin_theta = std::sqrt(std::max(1 - cos_theta * cos_theta, Float(0)));
+    // θ' = max(0, θ − φ) with φ = θ_o + θ_u, by angle-sum identities (no inverse trig).
+    const Float cos_o = n.cos_o[k], sin_o = n.sin_o[k];
+    const Float sin_u = n.radius[k] * inv_d;  // ≤ 1 outside the sphere (inside, bounded is 0)
+    const Float cos_u = std::sqrt(std::max(1 - sin_u * sin_u, Float(0)));
+    const Float cos_phi = cos_o * cos_u - sin_o * sin_u, sin_phi = sin_o * cos_u + cos_o * sin_u;
+    // φ ≥ π (sin φ < 0), an any-direction cone, or θ ≤ φ: the bound allows every direction.
+    // The conditions as an integer mask, not branches or selects: GCC then vectorises the
+    // loop (with -fno-math-errno, which renderer.cpp is compiled with, for the sqrts).
+    // Inside the bounding sphere (d² ≤ r²) every direction is possible, at distance r.
+    const Float bounded = Float(int(d2 > r2) & int(cos_o > -1) & int(sin_phi >= 0) & int(cos_phi > -1) &
+                                int(cos_theta < cos_phi));
+    const Float cos_p =
+        bounded * std::max(cos_theta * cos_phi + sin_theta * sin_phi, Float(0)) + (1 - bounded);
+    imp[k] = n.power[k] * cos_p * inv_d2;  // unused lanes have power 0
+  }
 }
 
-/// Probabilities of descending into each child of `node` at p (kLightTreeArity entries,
-/// zero past n_children).
-KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode* nodes, const LightTreeNode& node, Point3 p,
+/// Probabilities of descending into each lane of `node` at p (zero in unused lanes).
+KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, Point3 p,
                                                      Float prob[kLightTreeArity]) {
-  Float imp[kLightTreeArity], phi[kLightTreeArity];
+  Float imp[kLightTreeArity];
+  light_tree_importance(node, p, imp);
   Float imp_sum = 0, pow_sum = 0;
   for (int k = 0; k < kLightTreeArity; ++k) {
-    const bool live = k < node.n_children;
-    const LightTreeNode& c = nodes[node.child + (live ? k : 0)];
-    imp[k] = live ? light_tree_importance(c, p) : Float(0);
-    phi[k] = live ? c.power : Float(0);
     imp_sum += imp[k];
-    pow_sum += phi[k];
+    pow_sum += node.power[k];
   }
   const Float inv_imp = imp_sum > 0 ? 1 / imp_sum : Float(0), inv_pow = 1 / pow_sum;
   for (int k = 0; k < kLightTreeArity; ++k) {
-    const Float share = phi[k] * inv_pow;
+    const Float share = node.power[k] * inv_pow;
     prob[k] = (1 - kLightTreePowerShare) * (imp_sum > 0 ? imp[k] * inv_imp : share) + kLightTreePowerShare * share;
   }
 }
 
 struct LightTreeView {
-  const LightTreeNode* nodes = nullptr;  // nodes[0] is the root
-  const uint32_t* trail = nullptr;       // per light: 2 bits per level, the child taken
+  const LightTreeNode* nodes = nullptr;  // nodes[0] holds the root's children
+  const uint32_t* trail = nullptr;       // per light: 2 bits per level, the lane taken
   int n_nodes = 0;
 
   /// A finite light chosen at p; *pmf its probability (0 if the tree has no power).
   KAURI_HOST_DEVICE int sample(Float u, Point3 p, Float* pmf) const {
     *pmf = 0;
-    if (n_nodes == 0 || !(nodes[0].power > 0)) return -1;
+    if (n_nodes == 0) return -1;
     // u is not rescaled at each step (a division on the critical path): the interval
-    // [lo, hi) of u that reaches node i is split instead, without branches (the choice is
-    // a draw the branch predictor cannot learn).
-    Float prob = 1, lo = 0;
-    Float width = 1;
+    // [lo, lo + width) of u that reaches the node is split instead, without branches (the
+    // choice is a draw the branch predictor cannot learn).
+    Float prob = 1, lo = 0, width = 1;
     int i = 0;
-    while (nodes[i].child >= 0) {
+    for (;;) {
+      const LightTreeNode& n = nodes[i];
       Float pk[kLightTreeArity];
-      light_tree_child_probs(nodes, nodes[i], p, pk);
+      light_tree_child_probs(n, p, pk);
       int chosen = 0;
       Float start = lo, taken = pk[0];
       for (int k = 1; k < kLightTreeArity; ++k) {
         const Float edge = start + taken * width;
-        const bool beyond = k < nodes[i].n_children && pk[k] > 0 && !(u < edge);
+        const bool beyond = pk[k] > 0 && !(u < edge);
         chosen = beyond ? k : chosen;
         start = beyond ? edge : start;
         taken = beyond ? pk[k] : taken;
@@ -120,26 +125,29 @@ struct LightTreeView {
       prob *= taken;
       lo = start;
       width *= taken;
-      i = nodes[i].child + chosen;
+      if (n.child[chosen] < 0) {
+        *pmf = prob;
+        return -1 - n.child[chosen];
+      }
+      i = n.child[chosen];
     }
-    *pmf = prob;
-    return -1 - nodes[i].child;
   }
   /// Probability that sample() at p returns `light` (a finite light of the tree).
   KAURI_HOST_DEVICE Float pmf(int light, Point3 p) const {
-    if (n_nodes == 0 || !(nodes[0].power > 0)) return 0;
+    if (n_nodes == 0) return 0;
     const uint32_t bits = trail[light];
     Float prob = 1;
     int i = 0;
-    for (int level = 0; nodes[i].child >= 0; ++level) {
+    for (int level = 0; level < 16; ++level) {
+      const LightTreeNode& n = nodes[i];
       Float pk[kLightTreeArity];
-      light_tree_child_probs(nodes, nodes[i], p, pk);
+      light_tree_child_probs(n, p, pk);
       const int k = int((bits >> (2 * level)) & 3u);
-      if (k >= nodes[i].n_children) return 0;
       prob *= pk[k];
-      i = nodes[i].child + k;
+      if (n.child[k] < 0) return -1 - n.child[k] == light ? prob : 0;
+      i = n.child[k];
     }
-    return -1 - nodes[i].child == light ? prob : 0;
+    return 0;
   }
 };
 
