@@ -1,8 +1,8 @@
 // Light tree: chooses among a scene's finite lights (area, point, spot) in proportion to
 // an estimate of what each contributes at the shading point, instead of in proportion to
-// power alone. A binary tree over the lights stores, per node, the bounds of its lights'
-// positions, a cone bounding their emission normals and their total power; NEE descends
-// from the root choosing a child with probability ∝ its importance at the point (Conty
+// power alone. A 4-wide tree over the lights stores, per child of a node, the bounds of
+// its lights' extents, a cone bounding their emission normals and their total power; NEE
+// descends from the root choosing a child with probability ∝ its importance at the point (Conty
 // Estevez & Kulla 2018, "Importance Sampling of Many Lights with Adaptive Tree Splitting",
 // §4, without the splitting). The importance bound is
 //     I = Φ cos θ' / d²,   θ' = max(0, θ − θ_o − θ_u),
@@ -15,11 +15,10 @@
 // 1995): every light with power keeps a nonzero probability wherever it is, so the
 // estimate stays unbiased even where the bound is loose or zero by rounding.
 //
-// pmf(light | p) retraces the same choices along the light's root-to-leaf bit trail, so
+// pmf(light | p) retraces the same choices along the light's root-to-leaf trail, so
 // next-event estimation and the MIS weight of an emitter hit see the same density.
 #pragma once
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -57,14 +56,14 @@ KAURI_HOST_DEVICE inline void light_tree_importance(const LightTreeNode& n, Poin
   for (int k = 0; k < kLightTreeArity; ++k) {
     const Float vx = p.x - n.cx[k], vy = p.y - n.cy[k], vz = p.z - n.cz[k];
     const Float d2 = vx * vx + vy * vy + vz * vz, r2 = n.radius2[k];
-    const Float inv_d2 = 1 / std::max(d2, r2);  // r2 > 0 (the builder's floor)
+    const Float inv_d2 = 1 / fmax_(d2, r2);  // r2 > 0 (the builder's floor)
     const Float inv_d = std::sqrt(inv_d2);
     const Float cos_theta = (n.ax[k] * vx + n.ay[k] * vy + n.az[k] * vz) * inv_d;  // |·| ≤ 1 up to rounding
-    const Float sin_theta = std::sqrt(std::max(1 - cos_theta * cos_theta, Float(0)));
+    const Float sin_theta = std::sqrt(fmax_(1 - cos_theta * cos_theta, Float(0)));
     // θ' = max(0, θ − φ) with φ = θ_o + θ_u, by angle-sum identities (no inverse trig).
     const Float cos_o = n.cos_o[k], sin_o = n.sin_o[k];
     const Float sin_u = n.radius[k] * inv_d;  // ≤ 1 outside the sphere (inside, bounded is 0)
-    const Float cos_u = std::sqrt(std::max(1 - sin_u * sin_u, Float(0)));
+    const Float cos_u = std::sqrt(fmax_(1 - sin_u * sin_u, Float(0)));
     const Float cos_phi = cos_o * cos_u - sin_o * sin_u, sin_phi = sin_o * cos_u + cos_o * sin_u;
     // φ ≥ π (sin φ < 0), an any-direction cone, or θ ≤ φ: the bound allows every direction.
     // The conditions as an integer mask, not branches or selects: GCC then vectorises the
@@ -73,7 +72,7 @@ KAURI_HOST_DEVICE inline void light_tree_importance(const LightTreeNode& n, Poin
     const Float bounded = Float(int(d2 > r2) & int(cos_o > -1) & int(sin_phi >= 0) & int(cos_phi > -1) &
                                 int(cos_theta < cos_phi));
     const Float cos_p =
-        bounded * std::max(cos_theta * cos_phi + sin_theta * sin_phi, Float(0)) + (1 - bounded);
+        bounded * fmax_(cos_theta * cos_phi + sin_theta * sin_phi, Float(0)) + (1 - bounded);
     imp[k] = n.power[k] * cos_p * inv_d2;  // unused lanes have power 0
   }
 }
