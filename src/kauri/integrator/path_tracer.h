@@ -29,7 +29,8 @@ KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const Inte
                                                   Normal3 n_light) {
   if (st.depth == 0 || st.specular_bounce) return 1;
   Float p_light_solid =
-      s.light_pmf(light, st.prev_p, cfg.light_tree) * light_pdf(s.lights[light], st.prev_p, wi, p_light, n_light, kNextEventDensity);
+      s.light_pmf(light, st.prev_p, cfg.light_tree) *
+      light_pdf(s.lights[light], st.prev_p, wi, p_light, n_light, kNextEventDensity);
   return power_heuristic(st.prev_pdf, p_light_solid);
 }
 

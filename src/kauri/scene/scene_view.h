@@ -55,8 +55,6 @@ struct SceneView {
             xyz_to_rgb[1][0] * xyz.x + xyz_to_rgb[1][1] * xyz.y + xyz_to_rgb[1][2] * xyz.z,
             xyz_to_rgb[2][0] * xyz.x + xyz_to_rgb[2][1] * xyz.y + xyz_to_rgb[2][2] * xyz.z};
   }
-  KAURI_HOST_DEVICE Float light_pmf(int light) const { return light_distribution.discrete_pmf(light); }
-
   /// The light next-event estimation samples from point p, and its probability (*pmf = 0:
   /// none). `tree`: finite lights through the light tree, with their total power share;
   /// otherwise every light ∝ power. Infinite lights keep their power share either way.
