@@ -151,6 +151,25 @@ TEST(Spectral, RoundTripACEScg) {
 }
 
 // ---------------------------------------------------------------- (c) flat reflectances
+TEST(Spectral, SampledSigmoidMatchesThePolynomialAndSaturates) {
+  // sample_sigmoid (the branch-free 4-wide form every RGB spectrum and texture uses) gives
+  // SigmoidPolynomial's values for finite arguments, and 0 / 1 where the quadratic is
+  // infinite or beyond float's square (the plain formula would give 0.5 or NaN there).
+  SampledWavelengths w;
+  for (int i = 0; i < kSpectrumSamples; ++i) w.lambda[i] = 380 + Float(i) * 127;
+  const SigmoidPolynomial polys[] = {{1e-4f, -0.09f, 19}, {-3e-4f, 0.3f, -70}, {0, 0, 8192}, {0, 0, -8192},
+                                     {0, 0, 0.37f}, {0, 0, INFINITY}, {0, 0, -INFINITY}, {1e30f, 0, 0},
+                                     {-1e30f, 0, 0}};
+  for (const SigmoidPolynomial& p : polys) {
+    SampledSpectrum s = sample_sigmoid(p, w);
+    for (int i = 0; i < kSpectrumSamples; ++i) {
+      Float x = (p.c0 * w.lambda[i] + p.c1) * w.lambda[i] + p.c2;
+      Float want = std::fabs(x) > 1e18f ? (x > 0 ? Float(1) : Float(0)) : p(w.lambda[i]);
+      EXPECT_EQ(s[i], want) << "c = " << p.c0 << ", " << p.c1 << ", " << p.c2 << " at " << w.lambda[i];
+    }
+  }
+}
+
 TEST(Spectral, WhiteAndBlackAlbedoAreFlat) {
   for (ColorSpaceId id : {ColorSpaceId::LinearSRGB, ColorSpaceId::ACEScg}) {
     Spectrum one = rgb_albedo(color_space(id), {1, 1, 1});

@@ -1,7 +1,8 @@
-// Image texture lookups: bilinear reconstruction, wrap modes, orientation, and the
-// reflectance spectrum of a filtered colour.
+// Image texture lookups: bilinear reconstruction, wrap modes, orientation, the
+// reflectance spectrum of a filtered colour, and the per-texel fit's blend of spectra.
 #include <gtest/gtest.h>
 
+#include <random>
 #include <vector>
 
 #include "kauri/spectral/color_space.h"
@@ -64,6 +65,92 @@ TEST(ImageTexture, AlbedoSpectrumReproducesTheFilteredColour) {
   for (float lambda : {400.0f, 500.0f, 600.0f, 700.0f}) EXPECT_NEAR(s(lambda), 0.5f, 1e-4f);
   Spectrum white = t.albedo({0.75f, 0.25f});
   EXPECT_NEAR(white(550.0f), 1.0f, 1e-6f);
+}
+
+
+/// The texture with its per-texel fits, as the scene compiler makes it.
+struct FittedTexture {
+  std::vector<float> texels;
+  std::vector<SigmoidPolynomial> coeffs;
+  ImageTexture t;
+  FittedTexture(std::vector<float> rgb, int w, int h, TextureWrap wrap, ColorSpaceId cs = ColorSpaceId::LinearSRGB)
+      : texels(std::move(rgb)) {
+    const RGBToSpectrumTable& table = rgb_to_spectrum_table(cs);
+    coeffs = texel_coefficients(texels.data(), w, h, table);
+    t = ImageTexture{texels.data(), w, h, wrap, &table, coeffs.data()};
+  }
+};
+
+SampledWavelengths wavelengths_at(Float l0) {
+  SampledWavelengths w;
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    w.lambda[i] = l0 + Float(i) * 110;
+    w.pdf[i] = 1;
+  }
+  return w;
+}
+
+TEST(ImageTexture, FittedTexelCentresGiveThatTexelsSpectrum) {
+  FittedTexture f(kTexels, 2, 2, TextureWrap::Clamp);
+  const RGBToSpectrumTable& table = *f.t.table;
+  const Vec2 centre[4] = {{0.25f, 0.75f}, {0.75f, 0.75f}, {0.25f, 0.25f}, {0.75f, 0.25f}};
+  for (int k = 0; k < 4; ++k) {
+    SigmoidPolynomial p = table(Vec3{kTexels[3 * k], kTexels[3 * k + 1], kTexels[3 * k + 2]});
+    for (Float l0 : {360.0f, 401.5f, 497.0f}) {
+      SampledWavelengths w = wavelengths_at(l0);
+      SampledSpectrum got = f.t.albedo(centre[k], w);
+      for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_FLOAT_EQ(got[i], p(w.lambda[i])) << "texel " << k;
+    }
+  }
+}
+
+TEST(ImageTexture, FittedBlendUsesTheBilinearFootprintInBothWrapModes) {
+  // Grey texels have constant spectra, so the blend at any uv is the filtered grey: the
+  // per-texel path's weights and wrapping must be those of rgb().
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> grey(0.02f, 0.98f), uv(-2.5f, 3.5f);
+  std::vector<float> g;
+  for (int i = 0; i < 5 * 3; ++i) {
+    float v = grey(rng);
+    g.insert(g.end(), {v, v, v});
+  }
+  for (TextureWrap wrap : {TextureWrap::Clamp, TextureWrap::Repeat}) {
+    FittedTexture f(g, 5, 3, wrap);
+    for (int n = 0; n < 200; ++n) {
+      Vec2 p{uv(rng), uv(rng)};
+      SampledSpectrum s = f.t.albedo(p, wavelengths_at(380));
+      for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_NEAR(s[i], f.t.rgb(p).x, 2e-5f) << p.x << ", " << p.y;
+    }
+  }
+}
+
+TEST(ImageTexture, FittedBlendHasTheFilteredColour) {
+  // RGB is linear in the spectrum: the blend's colour under the space's illuminant is the
+  // bilinear colour, to the table's round-trip accuracy (and it stays a reflectance).
+  const std::vector<float> colours = {0.8f, 0.2f, 0.1f, 0.1f, 0.6f, 0.3f,  //
+                                      0.2f, 0.3f, 0.7f, 0.9f, 0.9f, 0.85f};
+  for (ColorSpaceId id : {ColorSpaceId::LinearSRGB, ColorSpaceId::ACEScg}) {
+    const RGBColorSpace& cs = color_space(id);
+    FittedTexture f(colours, 2, 2, TextureWrap::Repeat, id);
+    for (Vec2 p : {Vec2{0.5f, 0.5f}, Vec2{0.4f, 0.9f}, Vec2{0.1f, 0.3f}, Vec2{0.66f, 0.2f}}) {
+      Vec3 xyz;
+      double y_white = 0;
+      for (int l = 360; l <= 830; l += kSpectrumSamples) {
+        SampledWavelengths w;
+        for (int i = 0; i < kSpectrumSamples; ++i) w.lambda[i] = Float(std::min(l + i, 830));
+        SampledSpectrum s = f.t.albedo(p, w);
+        for (int i = 0; i < kSpectrumSamples && l + i <= 830; ++i) {
+          Float lit = (*cs.illuminant)(w.lambda[i]);
+          EXPECT_GE(s[i], 0);
+          EXPECT_LE(s[i], 1);
+          xyz += cie_xyz_bar(w.lambda[i]) * (s[i] * lit);
+          y_white += double(cie_xyz_bar(w.lambda[i]).y * lit);
+        }
+      }
+      Vec3 got = cs.to_rgb(xyz / Float(y_white)), want = f.t.rgb(p);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 5e-3f) << "uv " << p.x << ", " << p.y << " channel " << c;
+    }
+  }
 }
 
 }  // namespace

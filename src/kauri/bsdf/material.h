@@ -49,6 +49,12 @@ struct LobeParams {
   Float focus = 0;          // EDF: 0 diffuse, n > 0 a cos^n focused lobe
 
   KAURI_HOST_DEVICE Lobe instantiate(const SampledWavelengths& lambda) const {
+    return instantiate(lambda, [&] { return a.sample(lambda); });
+  }
+  /// The lobe with `a` at the wavelengths given by `a_sampled()` (called only by lobes
+  /// that read `a`): a texture's reflectance at the hit, or `a` itself.
+  template <class SampledA>
+  KAURI_HOST_DEVICE Lobe instantiate(const SampledWavelengths& lambda, const SampledA& a_sampled) const {
     switch (type) {
       case LobeType::SmoothDielectric: {
         SmoothDielectricLobe l;
@@ -61,9 +67,9 @@ struct LobeParams {
         l.mf = {alpha_x, alpha_y, microfacet};
         l.compensate = compensate;
         if (artist) {
-          artist_conductor_ior(a.sample(lambda), b.sample(lambda), &l.eta, &l.k);
+          artist_conductor_ior(a_sampled(), b.sample(lambda), &l.eta, &l.k);
         } else {
-          l.eta = a.sample(lambda);
+          l.eta = a_sampled();
           l.k = b.sample(lambda);
         }
         return Lobe(l);
@@ -78,13 +84,13 @@ struct LobeParams {
         for (int i = 0; i < kSpectrumSamples; ++i) eta[i] = ior(lambda.lambda[i]);
         return Lobe(ThinDielectricLobe::make(eta));
       }
-      case LobeType::DiffuseTransmission: return Lobe(DiffuseTransmissionLobe::make(a.sample(lambda)));
-      case LobeType::OrenNayar: return Lobe(OrenNayarLobe::make(a.sample(lambda), alpha_x));
-      case LobeType::Sheen: return Lobe(SheenLobe::make(a.sample(lambda), alpha_x));
+      case LobeType::DiffuseTransmission: return Lobe(DiffuseTransmissionLobe::make(a_sampled()));
+      case LobeType::OrenNayar: return Lobe(OrenNayarLobe::make(a_sampled(), alpha_x));
+      case LobeType::Sheen: return Lobe(SheenLobe::make(a_sampled(), alpha_x));
       case LobeType::Lambert:
       default: {
         LambertLobe l;
-        l.albedo = a.sample(lambda);
+        l.albedo = a_sampled();
         return Lobe(l);
       }
     }
@@ -159,9 +165,7 @@ KAURI_HOST_DEVICE inline void apply_accumulation(Lobe& l, const LayerAbove& abov
 KAURI_HOST_DEVICE inline Lobe instantiate(const LobeParams& p, const ShadingInputs& sp,
                                           const SampledWavelengths& lambda) {
   if (p.a_texture < 0) return p.instantiate(lambda);
-  LobeParams textured = p;
-  textured.a = sp.textures[p.a_texture].albedo(sp.uv);
-  return textured.instantiate(lambda);
+  return p.instantiate(lambda, [&] { return sp.textures[p.a_texture].albedo(sp.uv, lambda); });
 }
 
 }  // namespace material_detail

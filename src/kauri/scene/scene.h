@@ -229,6 +229,7 @@ class CompiledScene {
   std::vector<ScalarInput> node_weights_;
   std::vector<ImageTexture> textures_;
   std::vector<std::shared_ptr<const std::vector<float>>> texture_data_;  // keeps texels alive
+  std::deque<std::vector<SigmoidPolynomial>> texture_coeffs_;  // per-texel reflectance fits (ImageTexture::coeffs)
   std::vector<std::unique_ptr<LayerLayout>> layouts_;  // unique layouts, shared by materials
   std::deque<std::vector<float>> attribute_arrays_;  // deque: element addresses stay put
   std::deque<std::vector<float>> emission_tables_;   // tabulated EDF spectra (1 nm)

@@ -504,8 +504,10 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   v.node_weights = c.node_weights_.data();
   for (const TextureDesc& t : textures_) {
     c.texture_data_.push_back(t.texels);
-    c.textures_.push_back(ImageTexture{t.texels->data(), t.width, t.height, t.wrap, cs.table});
-    c.bytes_ += t.texels->size() * sizeof(float);
+    c.texture_coeffs_.push_back(texel_coefficients(t.texels->data(), t.width, t.height, *cs.table));
+    c.textures_.push_back(
+        ImageTexture{t.texels->data(), t.width, t.height, t.wrap, cs.table, c.texture_coeffs_.back().data()});
+    c.bytes_ += t.texels->size() * sizeof(float) + c.texture_coeffs_.back().size() * sizeof(SigmoidPolynomial);
   }
   v.textures = c.textures_.data();
   v.lights = c.lights_.data();
