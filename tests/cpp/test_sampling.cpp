@@ -530,6 +530,11 @@ TEST(Sobol, FastPathMatchesTheDefinitionBitForBit) {
   for (int k = 0; k < 1000; ++k) {
     uint32_t v = k < 32 ? 1u << k : rng.next_u32();
     ASSERT_EQ(reverse_bits32(v), sobol_detail::reverse_bits32_constexpr(v)) << v;
+    uint32_t x = v, y = ~v * 0x9e3779b9u;
+    const uint32_t want_y = sobol_detail::reverse_bits32_constexpr(y);
+    reverse_bits32_pair(&x, &y);
+    ASSERT_EQ(x, sobol_detail::reverse_bits32_constexpr(v)) << v;
+    ASSERT_EQ(y, want_y) << v;
   }
   for (int k = 0; k < 20000; ++k) {
     uint32_t index = k < 4096 ? uint32_t(k) : rng.next_u32();

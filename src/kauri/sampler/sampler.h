@@ -18,6 +18,7 @@ struct Sampler {
   SamplerType type = SamplerType::Sobol;
   uint32_t pixel_seed = 0;
   uint32_t index = 0;
+  uint32_t reversed_index = 0;  // R(index): shared by every Sobol' pair of the sample
   uint32_t dimension = 0;
   // Sobol': the pair computed for an even dimension by a 1D request; its y serves the
   // next 1D request if that is dimension pending_dim (never after a skip).
@@ -37,6 +38,7 @@ struct Sampler {
       seeded_pairs = 0;
     }
     index = sample_index;
+    reversed_index = reverse_bits32(sample_index);
     dimension = 0;
     pending_dim = ~0u;
     if (type == SamplerType::Independent) rng.set_sequence(pixel_seed, mix_bits(sample_index + 1));
@@ -70,12 +72,12 @@ struct Sampler {
   }
   /// Point `k` of the current sample's padded sequence (owen_sobol_2d, bit for bit).
   KAURI_HOST_DEVICE Vec2 pair(uint32_t k) {
-    if (k >= kCachedSobolPairs) return owen_sobol_2d(index, k, pixel_seed);
+    if (k >= kCachedSobolPairs) return owen_sobol_2d_reversed(reversed_index, SobolPairSeeds(k, pixel_seed));
     while (seeded_pairs <= k) {
       seeds[seeded_pairs] = SobolPairSeeds(seeded_pairs, pixel_seed);
       ++seeded_pairs;
     }
-    return owen_sobol_2d(index, seeds[k]);
+    return owen_sobol_2d_reversed(reversed_index, seeds[k]);
   }
   /// Advance past a value the path does not need (a pinhole's lens sample, light
   /// sampling at a specular vertex) without computing it: the dimensions of everything

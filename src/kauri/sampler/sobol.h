@@ -126,19 +126,44 @@ struct SobolPairSeeds {
         y(hash_u32(pixel_seed ^ (pair * 0xc2b2ae35u + 2u))) {}
 };
 
+/// Bit reversal of two 32-bit words at once, in one 64-bit register: *x ← R(*x), *y ← R(*y)
+/// for the cost of one reversal (the byte swap exchanges the words, which it undoes).
+KAURI_HOST_DEVICE inline void reverse_bits32_pair(uint32_t* x, uint32_t* y) {
+#if defined(__CUDA_ARCH__)
+  *x = __brev(*x);
+  *y = __brev(*y);
+#elif defined(__GNUC__)
+  uint64_t v = __builtin_bswap64((uint64_t(*y) << 32) | *x);  // low word: bswap(y), high: bswap(x)
+  v = ((v >> 4) & 0x0F0F0F0F0F0F0F0FULL) | ((v & 0x0F0F0F0F0F0F0F0FULL) << 4);
+  v = ((v >> 2) & 0x3333333333333333ULL) | ((v & 0x3333333333333333ULL) << 2);
+  v = ((v >> 1) & 0x5555555555555555ULL) | ((v & 0x5555555555555555ULL) << 1);
+  *x = uint32_t(v >> 32);
+  *y = uint32_t(v);
+#else
+  *x = reverse_bits32(*x);
+  *y = reverse_bits32(*y);
+#endif
+}
+
 /// One 2D point of the padded Owen-scrambled Sobol' sequence: dimensions
 /// (2·pair, 2·pair + 1) form a scrambled (0,2)-sequence in [0,1)². By definition
 ///   shuffled = N(index, s0), x = N(S0(shuffled), s1), y = N(S1(shuffled), s2)
 /// with N(v, s) = R(LK(R(v), s)) and S0 = R. Writing a = R(shuffled) = LK(R(index), s0):
 ///   x = R(LK(R(a), s1)),  y = R(LK(M(a), s2)),  M = R ∘ S1 ∘ R (byte tables),
-/// four bit reversals instead of seven, bit-identical to the definition.
-KAURI_HOST_DEVICE inline Vec2 owen_sobol_2d(uint32_t index, const SobolPairSeeds& s) {
-  uint32_t a = laine_karras_permutation(reverse_bits32(index), s.shuffle);
+/// bit-identical to the definition. `reversed_index` = R(index), which every pair of a
+/// sample shares (the Sampler reverses it once per sample); the last two reversals run
+/// as one (reverse_bits32_pair).
+KAURI_HOST_DEVICE inline Vec2 owen_sobol_2d_reversed(uint32_t reversed_index, const SobolPairSeeds& s) {
+  uint32_t a = laine_karras_permutation(reversed_index, s.shuffle);
   const auto& m = sobol_detail::kDim1Reversed.t;
   uint32_t ma = m[0][a & 0xff] ^ m[1][(a >> 8) & 0xff] ^ m[2][(a >> 16) & 0xff] ^ m[3][a >> 24];
-  uint32_t x = reverse_bits32(laine_karras_permutation(reverse_bits32(a), s.x));
-  uint32_t y = reverse_bits32(laine_karras_permutation(ma, s.y));
+  uint32_t x = laine_karras_permutation(reverse_bits32(a), s.x);
+  uint32_t y = laine_karras_permutation(ma, s.y);
+  reverse_bits32_pair(&x, &y);
   return {u32_to_unit(x), u32_to_unit(y)};
+}
+KAURI_HOST_DEVICE inline Vec2 owen_sobol_2d(uint32_t index, const SobolPairSeeds& s) {
+  return owen_sobol_2d_reversed(reverse_bits32(index), s);
 }
 KAURI_HOST_DEVICE inline Vec2 owen_sobol_2d(uint32_t index, uint32_t pair, uint32_t pixel_seed) {
   return owen_sobol_2d(index, SobolPairSeeds(pair, pixel_seed));
