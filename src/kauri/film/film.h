@@ -51,11 +51,18 @@ struct PixelFilter {
   KAURI_HOST_DEVICE int margin() const { return int(std::ceil(radius - 0.5f)); }
 };
 
-/// Running sums for one pixel (double sums keep long renders exact enough).
+/// Running beauty sums for one pixel (double sums keep long renders exact enough): the
+/// 40 bytes every splat touches, apart from the data AOVs (PixelAOVAccum) so that a
+/// splat's ~16 pixels span 16 small records instead of 16 cache lines and more, and rgb
+/// and alpha are four neighbouring doubles (one AVX2 operation per pixel).
 struct PixelAccum {
   double rgb[3] = {0, 0, 0};
   double alpha = 0;
   double weight = 0;  // Σ filter weights of the beauty (rgb, alpha) sums
+};
+
+/// Running sums of the data AOVs of one pixel (its own samples only, unfiltered).
+struct PixelAOVAccum {
   // Albedo as a ratio estimator: Σ XYZ(albedo·white) / Σ XYZ(white) over the same
   // wavelengths cancels most spectral noise (exact for flat reflectances).
   double albedo_xyz[3] = {0, 0, 0};

@@ -93,6 +93,7 @@ struct TileContext {
   const CompiledScene& scene;
   const RenderSettings& cfg;
   FilmView film;
+  PixelAOVAccum* aovs;  // film.width × film.height, row-major
   std::atomic<uint64_t>& rays;
   std::atomic<uint64_t>& nan_samples;
   std::vector<NaNReport>& nan_pixels;
@@ -130,6 +131,8 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
                           uint64_t* rays) {
   const SceneView& sv = c.scene.view();
   PixelAccum& px = c.film.at(x, y);
+  // Data AOV sums: allocated only when the render gathers them (cfg.aovs).
+  PixelAOVAccum* aov = c.cfg.aovs ? c.aovs + (size_t(y) * size_t(c.film.width) + size_t(x)) : nullptr;
   const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
   Sampler sampler;
   sampler.type = c.cfg.sampler;
@@ -166,12 +169,12 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
     add_beauty(c, px, film_pos, rgb, out.hit ? 1 : 0);
     if (!c.cfg.aovs) continue;
     if (out.hit) {
-      px.normal[0] += double(out.normal.x);
-      px.normal[1] += double(out.normal.y);
-      px.normal[2] += double(out.normal.z);
+      aov->normal[0] += double(out.normal.x);
+      aov->normal[1] += double(out.normal.y);
+      aov->normal[2] += double(out.normal.z);
       if (std::isfinite(out.depth)) {
-        px.depth += double(out.depth);
-        ++px.depth_count;
+        aov->depth += double(out.depth);
+        ++aov->depth_count;
       }
     }
     if (out.albedo_set) {
@@ -180,8 +183,8 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
       Vec3 num = to_xyz(out.albedo * white), den = to_xyz(white);
       if (is_finite(num)) {
         for (int k = 0; k < 3; ++k) {
-          px.albedo_xyz[k] += double(num[k]);
-          px.white_xyz[k] += double(den[k]);
+          aov->albedo_xyz[k] += double(num[k]);
+          aov->white_xyz[k] += double(den[k]);
         }
       }
     }
@@ -189,8 +192,8 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
 }
 
 /// Film sums → pixel values: beauty, and the AOVs when they were gathered.
-RenderResult resolve(const std::vector<PixelAccum>& film, int w, int h, const SceneView& sv, Vec3 white_xyz,
-                     bool aovs) {
+RenderResult resolve(const std::vector<PixelAccum>& film, const std::vector<PixelAOVAccum>& aov_sums, int w, int h,
+                     const SceneView& sv, Vec3 white_xyz, bool aovs) {
   RenderResult r;
   r.width = w;
   r.height = h;
@@ -207,7 +210,7 @@ RenderResult resolve(const std::vector<PixelAccum>& film, int w, int h, const Sc
   r.normal.resize(3 * n);
   r.depth.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    const PixelAccum& p = film[i];
+    const PixelAOVAccum& p = aov_sums[i];
     Vec3 albedo_xyz;
     for (int k = 0; k < 3; ++k)
       albedo_xyz[k] = p.white_xyz[k] > 0 ? Float(p.albedo_xyz[k] / p.white_xyz[k]) * white_xyz[k] : 0;
@@ -277,10 +280,11 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   cfg.integrator.albedo_aov = cfg.aovs;
   const int w = cfg.width, h = cfg.height;
   std::vector<PixelAccum> film(size_t(w) * size_t(h));
+  std::vector<PixelAOVAccum> aov_sums(cfg.aovs ? film.size() : 0);
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;
   std::mutex nan_mutex;
-  TileContext ctx{scene, cfg, FilmView{film.data(), w, h}, rays, nan_samples, nan_pixels, nan_mutex};
+  TileContext ctx{scene, cfg, FilmView{film.data(), w, h}, aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex};
 
   const TileGrid grid = make_tile_grid(cfg);
   const int ts = grid.size;
@@ -315,7 +319,7 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   }
   progress.finish();
 
-  RenderResult result = resolve(film, w, h, scene.view(), spectrum_to_xyz(scene.view().illuminant), cfg.aovs);
+  RenderResult result = resolve(film, aov_sums, w, h, scene.view(), spectrum_to_xyz(scene.view().illuminant), cfg.aovs);
   RenderStats& st = result.stats;
   st.seconds = seconds_since(t0);
   st.spp = int(done_spp);
@@ -359,10 +363,12 @@ struct RecordingAccel {
 RayLog record_rays(const CompiledScene& scene, const RenderSettings& cfg, size_t max_rays) {
   check_settings(cfg);
   std::vector<PixelAccum> film(size_t(cfg.width) * size_t(cfg.height));
+  std::vector<PixelAOVAccum> aov_sums(film.size());
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;
   std::mutex nan_mutex;
-  TileContext ctx{scene, cfg, FilmView{film.data(), cfg.width, cfg.height}, rays, nan_samples, nan_pixels, nan_mutex};
+  TileContext ctx{scene, cfg, FilmView{film.data(), cfg.width, cfg.height}, aov_sums.data(), rays, nan_samples,
+                  nan_pixels, nan_mutex};
   RayLog log;
   RecordingAccel rec{scene.accel(), &log, max_rays};
   uint64_t n = 0;
