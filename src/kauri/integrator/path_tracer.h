@@ -134,8 +134,12 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     ++st.depth;
     if (!st.record_scatter(bs, cfg)) st.last_segment = true;
 
-    // Russian roulette on the throughput, with radiance-scale from refraction removed.
-    if (st.depth < cfg.rr_min_depth) {
+    // Russian roulette on the throughput, with radiance-scale from refraction removed,
+    // once the path has made rr_min_depth diffuse bounces. Glossy and specular bounces do
+    // not count: they keep light concentrated, and killing such paths in proportion to
+    // their throughput cost the glossy bench scene 18% more variance for 3.5% fewer rays
+    // (the bounce budgets still bound them).
+    if (st.diffuse_depth < cfg.rr_min_depth) {
       sampler.skip_1d();
     } else {
       Float u_rr = sampler.get_1d();
