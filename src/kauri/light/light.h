@@ -83,17 +83,12 @@ KAURI_HOST_DEVICE inline Vec3 latlong_to_direction(Vec2 uv) {
 }
 
 namespace light_detail {
-KAURI_HOST_DEVICE inline SampledSpectrum env_texel_spectrum(const Light& l, int x, int y, const SampledWavelengths& lambda) {
+/// Texel (x, y)'s radiance at the path's wavelengths, given the illuminant there (`I`).
+KAURI_HOST_DEVICE inline SampledSpectrum env_texel_spectrum(const Light& l, int x, int y, const SampledWavelengths& lambda,
+                                                            const SampledSpectrum& I) {
   const EnvTexel& t = l.texels[size_t(y) * size_t(l.width) + size_t(x)];
-  SampledSpectrum s;
-  if (t.scale == 0) return s;
-  for (int i = 0; i < kSpectrumSamples; ++i) {
-    Float lam = lambda.lambda[i];
-    Float xx = (t.c0 * lam + t.c1) * lam + t.c2;
-    Float sig = std::isinf(xx) ? (xx > 0 ? Float(1) : Float(0)) : Float(0.5) + xx / (2 * std::sqrt(1 + xx * xx));
-    s[i] = t.scale * sig * l.illuminant(lam);
-  }
-  return s;
+  if (t.scale == 0) return SampledSpectrum(0);
+  return sample_sigmoid(SigmoidPolynomial{t.c0, t.c1, t.c2}, lambda) * t.scale * I;
 }
 }  // namespace light_detail
 
@@ -109,11 +104,12 @@ KAURI_HOST_DEVICE inline SampledSpectrum env_texel_radiance(const Light& l, Vec2
   auto wrap_x = [&](int x) { int r = x % l.width; return r < 0 ? r + l.width : r; };
   auto clamp_y = [&](int y) { return y < 0 ? 0 : (y >= l.height ? l.height - 1 : y); };
   int xa = wrap_x(x0), xb = wrap_x(x0 + 1), ya = clamp_y(y0), yb = clamp_y(y0 + 1);
+  const SampledSpectrum I = sample_dense(l.illuminant, lambda);  // once for the four texels
   SampledSpectrum s(0);
   const Float w[4] = {(1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy};
   const int tx[4] = {xa, xb, xa, xb}, ty[4] = {ya, ya, yb, yb};
   for (int k = 0; k < 4; ++k)
-    if (w[k] > 0) s += light_detail::env_texel_spectrum(l, tx[k], ty[k], lambda) * w[k];
+    if (w[k] > 0) s += light_detail::env_texel_spectrum(l, tx[k], ty[k], lambda, I) * w[k];
   return s;
 }
 

@@ -27,6 +27,13 @@ struct DenselySampled {
   }
 };
 
+/// `d` at the path's wavelengths.
+KAURI_HOST_DEVICE inline SampledSpectrum sample_dense(const DenselySampled& d, const SampledWavelengths& w) {
+  SampledSpectrum s;
+  for (int i = 0; i < kSpectrumSamples; ++i) s[i] = d(w.lambda[i]);
+  return s;
+}
+
 /// Planck's law B(lambda, T) in W sr^-1 m^-3 (lambda in nm, T in kelvin).
 KAURI_HOST_DEVICE inline Float planck(Float lambda_nm, Float temperature) {
   const Float c = 299792458.f, h = 6.62606957e-34f, kb = 1.3806488e-23f;
@@ -147,9 +154,9 @@ struct Spectrum {
       case SpectrumType::RGBUnbounded:
         return sample_sigmoid(rgb.poly, w) * rgb.scale;
       case SpectrumType::RGBIlluminant:  // every RGB light and environment
-        s = sample_sigmoid(rgb.poly, w) * rgb.scale;
-        for (int i = 0; i < kSpectrumSamples; ++i) s[i] *= rgb.illuminant(w.lambda[i]);
-        return s;
+        return sample_sigmoid(rgb.poly, w) * rgb.scale * sample_dense(rgb.illuminant, w);
+      case SpectrumType::DenselySampled:
+        return sample_dense(dense, w);
       default:
         for (int i = 0; i < kSpectrumSamples; ++i) s[i] = (*this)(w.lambda[i]);
         return s;
