@@ -56,3 +56,35 @@ def test_diffuse_budget_zero_keeps_the_furnace_albedo(furnace_scene):
         out = kauri.render(furnace_scene(kauri.Lambert(albedo=(0.5, 0.5, 0.5), name="m")), spp=64,
                            resolution=(32, 32), max_diffuse=budget, progress=False, aovs=False)
         np.testing.assert_allclose(interior_mean(out), 0.5, rtol=0.01)
+
+
+def mirror_box(roughness):
+    """A closed cube of aluminium, the camera inside: no ray ever leaves, no surface is diffuse."""
+    s = kauri.Scene(color_space="srgb")
+    quads = [[(-1, -1, 1), (1, -1, 1), (1, -1, -1), (-1, -1, -1)], [(-1, 1, -1), (1, 1, -1), (1, 1, 1), (-1, 1, 1)],
+             [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1)], [(1, -1, 1), (-1, -1, 1), (-1, 1, 1), (1, 1, 1)],
+             [(-1, -1, 1), (-1, -1, -1), (-1, 1, -1), (-1, 1, 1)], [(1, -1, -1), (1, -1, 1), (1, 1, 1), (1, 1, -1)]]
+    metal = kauri.Conductor(metal="Al", roughness=roughness)
+    for k, q in enumerate(quads):
+        s.add_mesh(np.array(q, np.float32), np.array([[0, 1, 2, 3]]), material=metal, name=f"wall{k}")
+    s.add_point_light(position=(0.3, 0.5, 0.2), intensity=1)
+    s.set_camera(eye=(0, 0, 0.5), target=(0, 0, -1), fov=60)
+    return s
+
+
+@pytest.mark.parametrize("roughness", [0.0, 0.2])
+def test_russian_roulette_waits_for_diffuse_bounces(roughness):
+    # Russian roulette starts after rr_min_depth (5) diffuse bounces: a path between metal
+    # walls (throughput ~0.9 per bounce) is never cut short, every camera sample makes
+    # max_depth + 1 closest-hit queries, plus one shadow ray per rough (non-delta) vertex.
+    # Counting every bounce, roulette would end about a third of them after bounce 5.
+    depth = 12
+    out = kauri.render(mirror_box(roughness), spp=4, resolution=(8, 8), seed=1, progress=False, aovs=False,
+                       max_depth=depth, max_glossy=64)
+    closest = out.stats["samples"] * (depth + 1)
+    if roughness == 0:
+        assert out.stats["rays"] == closest
+    else:
+        # Shadow rays are traced where the light faces the vertex with a nonzero BSDF: at
+        # most one per vertex below max_depth, and most of them in a closed box.
+        assert closest + 0.5 * out.stats["samples"] * depth <= out.stats["rays"] <= closest + out.stats["samples"] * depth
