@@ -14,9 +14,12 @@ struct SigmoidPolynomial {
   Float c0 = 0, c1 = 0, c2 = 0;
 
   /// The sigmoid maps R onto (0,1), so every coefficient triple is a valid
-  /// reflectance (paper, eq. 3). Infinite arguments saturate instead of giving NaN.
+  /// reflectance (paper, eq. 3). The argument is clamped to ±2^60 instead of testing for
+  /// infinity: s(±2^60) is exactly 1 or 0 in float, x² cannot overflow, and with no branch
+  /// a loop over wavelengths runs as one 4-wide computation (sample_sigmoid).
   KAURI_HOST_DEVICE static Float sigmoid(Float x) {
-    if (std::isinf(x)) return x > 0 ? Float(1) : Float(0);
+    constexpr Float kBound = 0x1p60f;
+    x = fmin_(fmax_(x, -kBound), kBound);
     return Float(0.5) + x / (2 * std::sqrt(1 + x * x));
   }
   KAURI_HOST_DEVICE Float operator()(Float lambda) const {

@@ -59,19 +59,11 @@ KAURI_HOST_DEVICE inline Float blackbody_normalized(Float lambda_nm, Float tempe
   return r5 * std::expm1(kWienX) / std::expm1(kC2 / (lambda_nm * temperature));
 }
 
-/// The sigmoid polynomial p at the path's wavelengths, s(x) for x = c0 λ² + c1 λ + c2
-/// (Jakob & Hanika 2019, eq. 3). The argument is clamped to ±2^60 instead of testing for
-/// infinity: s(±2^60) is exactly 1 or 0 in float, x² cannot overflow, and the loop has no
-/// branch, so it runs as one 4-wide computation (same values as SigmoidPolynomial for
-/// every finite x).
+/// The sigmoid polynomial p at the path's wavelengths (Jakob & Hanika 2019, eq. 3):
+/// branch-free, so the compiler evaluates the four wavelengths as one vector.
 KAURI_HOST_DEVICE inline SampledSpectrum sample_sigmoid(const SigmoidPolynomial& p, const SampledWavelengths& w) {
-  constexpr Float kBound = 0x1p60f;
   SampledSpectrum s;
-  for (int i = 0; i < kSpectrumSamples; ++i) {
-    Float x = (p.c0 * w.lambda[i] + p.c1) * w.lambda[i] + p.c2;
-    x = fmin_(fmax_(x, -kBound), kBound);
-    s[i] = Float(0.5) + x / (2 * std::sqrt(1 + x * x));
-  }
+  for (int i = 0; i < kSpectrumSamples; ++i) s[i] = p(w.lambda[i]);
   return s;
 }
 
