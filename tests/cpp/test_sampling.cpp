@@ -546,8 +546,39 @@ TEST(Sobol, FastPathMatchesTheDefinitionBitForBit) {
     Vec2 p = owen_sobol_2d(index, pair, seed);
     ASSERT_EQ(float_as_bits(p.x), float_as_bits(u32_to_unit(x))) << index;
     ASSERT_EQ(float_as_bits(p.y), float_as_bits(u32_to_unit(y))) << index;
-    ASSERT_EQ(float_as_bits(owen_sobol_1d(index, pair, 0, seed)), float_as_bits(p.x));
-    ASSERT_EQ(float_as_bits(owen_sobol_1d(index, pair, 1, seed)), float_as_bits(p.y));
+  }
+}
+
+TEST(Sobol, SupersetXorIsTheReversedDimensionOneMatrix) {
+  // Z(c) = R(S1(c)): the dimension-1 generator matrix (byte tables from its direction
+  // numbers) seen through bit reversal, as 15 word operations. Every single bit checks
+  // one column of the matrix; random words check linearity.
+  PCG32 rng;
+  rng.set_sequence(2, 8);
+  for (int k = 0; k < 100000; ++k) {
+    uint32_t c = k < 32 ? 1u << k : rng.next_u32();
+    ASSERT_EQ(sobol_detail::superset_xor(c), reverse_bits32(sobol_u32(c, 1))) << c;
+  }
+}
+
+TEST(Sobol, BatchMatchesOwenSobol2dBitForBit) {
+  // owen_sobol_batch computes four pairs in vector lanes (GCC/Clang) or by a loop
+  // (elsewhere); both must be owen_sobol_2d exactly, at any batch start and seed.
+  PCG32 rng;
+  rng.set_sequence(4, 6);
+  Float out[2 * kSobolBatch];
+  for (int k = 0; k < 20000; ++k) {
+    uint32_t index = k < 4096 ? uint32_t(k) : rng.next_u32();
+    uint32_t first = k % 3 == 0 ? rng.next_u32() : kSobolBatch * (rng.next_u32() % 32);
+    uint32_t seed = rng.next_u32();
+    owen_sobol_batch(reverse_bits32(index), first, seed, out);
+    for (uint32_t i = 0; i < kSobolBatch; ++i) {
+      Vec2 p = owen_sobol_2d(index, first + i, seed);
+      ASSERT_EQ(float_as_bits(out[i]), float_as_bits(p.x)) << index << " pair " << first + i;
+      ASSERT_EQ(float_as_bits(out[kSobolBatch + i]), float_as_bits(p.y)) << index << " pair " << first + i;
+      ASSERT_GE(out[i], 0);
+      ASSERT_LT(out[kSobolBatch + i], 1);
+    }
   }
 }
 
@@ -557,9 +588,8 @@ TEST(Sobol, FastPathMatchesTheDefinitionBitForBit) {
 TEST(Sobol, SamplerRequestsFollowTheDimensionLayout) {
   PCG32 rng;
   rng.set_sequence(5, 9);
-  // One Sampler throughout, as the render loop keeps one per pixel: samples of the same
-  // pixel reuse its cached pair seeds, a new pixel must drop them; 40 requests reach past
-  // the kCachedSobolPairs cached pairs.
+  // One Sampler throughout, as the render loop keeps one per pixel: a new sample or pixel
+  // must drop the cached batch of pairs; 40 requests cross several batches.
   Sampler s;
   int px = 0, py = 0;
   for (int trial = 0; trial < 2000; ++trial) {
