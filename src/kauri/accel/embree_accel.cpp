@@ -70,10 +70,12 @@ EmbreeAccel::~EmbreeAccel() {
   if (device_) rtcReleaseDevice(device_);
 }
 
-RTCScene EmbreeAccel::build_group(const std::vector<ShapeView>& shapes) {
+/// `keep_analytic` false: spheres and disks are left out (the root's direct shapes).
+RTCScene EmbreeAccel::build_group(const std::vector<ShapeView>& shapes, bool keep_analytic) {
   RTCScene scene = rtcNewScene(device_);
   rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
   for (size_t i = 0; i < shapes.size(); ++i) {
+    if (!keep_analytic && shapes[i].type != ShapeType::Mesh) continue;
     RTCGeometry g = make_geometry(device_, shapes[i]);
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(scene, g, unsigned(i));
@@ -84,12 +86,20 @@ RTCScene EmbreeAccel::build_group(const std::vector<ShapeView>& shapes) {
 }
 
 void EmbreeAccel::build(const std::vector<std::vector<ShapeView>>& groups, const std::vector<int>& instance_groups,
-                        const std::vector<Transform>& instance_xf) {
-  root_ = build_group(groups.at(0));
+                        const std::vector<Transform>& instance_xf, size_t max_direct) {
+  const std::vector<ShapeView>& root = groups.at(0);
+  size_t analytic = 0;
+  for (const ShapeView& s : root) analytic += s.type != ShapeType::Mesh ? 1 : 0;
+  const bool direct = analytic > 0 && analytic <= max_direct;
+  direct_.clear();
+  if (direct)
+    for (size_t i = 0; i < root.size(); ++i)
+      if (root[i].type != ShapeType::Mesh) direct_.push_back({root[i].type, unsigned(i), root[i].sphere, root[i].disk});
+  root_ = build_group(root, !direct);
   for (const ShapeView& s : groups[0]) extend_bounds(s, nullptr, &bounds_);
   prototypes_.assign(groups.size(), nullptr);
   for (size_t g = 1; g < groups.size(); ++g) {
-    prototypes_[g] = build_group(groups[g]);
+    prototypes_[g] = build_group(groups[g], true);
     rtcCommitScene(prototypes_[g]);
   }
   const unsigned first_instance_id = unsigned(groups[0].size());
