@@ -103,6 +103,41 @@ TEST(LightTree, SamplesFollowThePmfChiSquare) {
   }
 }
 
+// Next-event estimation picks the light with u.x and places the point with u.x rescaled
+// within the light's share (path_tracer.h), so that one stratified 2D sample covers all
+// the lights. Each light owns one interval of u; evenly spaced u must come back evenly
+// spaced over [0, 1) for every light, and the choice must not depend on asking for it.
+TEST(LightTree, RemappedUIsUniformWithinEachLight) {
+  RandomLights r;
+  LightTreeStorage t = build_light_tree(r.lights, r.power);
+  const LightTreeView v = t.view();
+  const int n = int(r.lights.size()), N = 1 << 17;
+  const Point3 points[] = {{0, 0, 0}, {4.5f, -4.5f, 2}};
+  for (const Point3& p : points) {
+    std::vector<std::vector<Float>> remapped{size_t(n)};
+    for (int k = 0; k < N; ++k) {
+      const Float u = (Float(k) + 0.5f) / Float(N);
+      Float pmf, pmf2, ur = -1;
+      const int li = v.sample(u, p, &pmf, &ur);
+      ASSERT_EQ(li, v.sample(u, p, &pmf2));
+      ASSERT_GE(ur, 0);
+      ASSERT_LT(ur, 1);
+      remapped[size_t(li)].push_back(ur);
+    }
+    int checked = 0;
+    for (std::vector<Float>& rs : remapped) {
+      if (rs.size() < 64) continue;
+      ++checked;
+      const double m = double(rs.size());
+      for (size_t j = 0; j < rs.size(); ++j) {  // in u order: increasing, evenly spaced
+        if (j > 0) ASSERT_GT(rs[j], rs[j - 1]);
+        ASSERT_NEAR(rs[j], (double(j) + 0.5) / m, 1.5 / m + 1e-4);
+      }
+    }
+    EXPECT_GT(checked, 10);
+  }
+}
+
 // A hangar ceiling: 16 × 16 equal lamps facing down. Below one lamp, the tree picks it far
 // more often than a lamp in the far corner, where power alone would pick both alike.
 TEST(LightTree, PrefersTheLampsThatContribute) {

@@ -100,7 +100,7 @@ struct LightTreeView {
   int n_nodes = 0;
 
   /// A finite light chosen at p; *pmf its probability (0 if the tree has no power).
-  KAURI_HOST_DEVICE int sample(Float u, Point3 p, Float* pmf) const {
+  KAURI_HOST_DEVICE int sample(Float u, Point3 p, Float* pmf, Float* u_remapped = nullptr) const {
     *pmf = 0;
     if (n_nodes == 0) return -1;
     // u is not rescaled at each step (a division on the critical path): the interval
@@ -126,6 +126,7 @@ struct LightTreeView {
       width *= taken;
       if (n.child[chosen] < 0) {
         *pmf = prob;
+        if (u_remapped) *u_remapped = width > 0 ? fmin_(fmax_((u - lo) / width, Float(0)), kOneMinusEpsilon) : Float(0);
         return -1 - n.child[chosen];
       }
       i = n.child[chosen];

@@ -58,19 +58,21 @@ struct SceneView {
   /// The light next-event estimation samples from point p, and its probability (*pmf = 0:
   /// none). `tree`: finite lights through the light tree, with their total power share;
   /// otherwise every light ∝ power. Infinite lights keep their power share either way.
-  KAURI_HOST_DEVICE int select_light(Float u, Point3 p, bool tree, Float* pmf) const {
-    if (!tree || light_tree.n_nodes == 0) return light_distribution.sample_discrete(u, pmf);
+  /// `u_remapped` (optional) gets u rescaled to [0,1) within the chosen light's interval,
+  /// so one coordinate of a stratified 2D sample can pick the light and then a point on it.
+  KAURI_HOST_DEVICE int select_light(Float u, Point3 p, bool tree, Float* pmf, Float* u_remapped = nullptr) const {
+    if (!tree || light_tree.n_nodes == 0) return light_distribution.sample_discrete(u, pmf, u_remapped);
     const Float F = finite_light_share;
     if (u < F) {
       Float pt;
-      const int li = light_tree.sample(fmin_(u / F, kOneMinusEpsilon), p, &pt);
+      const int li = light_tree.sample(fmin_(u / F, kOneMinusEpsilon), p, &pt, u_remapped);
       *pmf = F * pt;
       return li;
     }
     *pmf = 0;
     if (n_infinite_lights == 0 || !(infinite_distribution.integral > 0)) return -1;
     Float pi;
-    const int k = infinite_distribution.sample_discrete(fmin_((u - F) / (1 - F), kOneMinusEpsilon), &pi);
+    const int k = infinite_distribution.sample_discrete(fmin_((u - F) / (1 - F), kOneMinusEpsilon), &pi, u_remapped);
     *pmf = (1 - F) * pi;
     return infinite_lights[k];
   }
