@@ -112,9 +112,9 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     }
     if (st.depth >= cfg.max_depth || st.last_segment) break;
 
-    // Dimension layout of a bounce: light choice and point (2D), a spare value and the lobe
-    // choice (one pair), BSDF direction (2D), Russian roulette (1D). Values a vertex does
-    // not use are skipped, not computed, so the layout never depends on the material.
+    // Dimension layout of a bounce, three pairs: light choice and point; lobe choice and
+    // Russian roulette; BSDF direction. A light sample a specular vertex does not take is
+    // skipped, not computed, so the layout never depends on the material.
     if (bsdf.has_non_specular()) {
       Vec2 u_light = sampler.get_2d();
       SampledSpectrum Ld = path_detail::sample_direct(s, accel, cfg, hit, bsdf, wo, lambda, u_light, &out->rays);
@@ -122,11 +122,10 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     } else {
       sampler.skip_2d();
     }
-    sampler.skip_1d();
 
-    Float uc = sampler.get_1d();
+    const Vec2 u_lobe_rr = sampler.get_2d();
     Vec2 u = sampler.get_2d();
-    BSDFSample bs = bsdf.sample(wo, uc, u, lambda, TransportMode::Radiance);
+    BSDFSample bs = bsdf.sample(wo, u_lobe_rr.x, u, lambda, TransportMode::Radiance);
     if (!bs.valid() || bs.f.is_black()) break;
     st.beta *= bs.f * (absdot(bs.wi, frame.z) / bs.pdf);
     st.prev_pdf = bs.pdf;
@@ -140,12 +139,9 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     // not count: they keep light concentrated, and killing such paths in proportion to
     // their throughput cost the glossy bench scene 18% more variance for 3.5% fewer rays
     // (the bounce budgets still bound them).
-    if (st.diffuse_depth < cfg.rr_min_depth) {
-      sampler.skip_1d();
-    } else {
-      Float u_rr = sampler.get_1d();
+    if (st.diffuse_depth >= cfg.rr_min_depth) {
       Float q = fmax_(Float(0), 1 - (st.beta * st.eta_scale).max_value());
-      if (u_rr < q) break;
+      if (u_lobe_rr.y < q) break;
       st.beta *= 1 / (1 - q);
     }
     if (!st.beta.is_finite()) break;

@@ -192,8 +192,8 @@ KAURI_HOST_DEVICE inline Float owen_sobol_sample(uint32_t index, uint32_t dimens
   return dimension & 1 ? p.y : p.x;
 }
 
-/// Dimension pairs the Sampler computes at once: a bounce reads four (light point, light
-/// and lobe choice, BSDF direction, roulette).
+/// Dimension pairs the Sampler computes at once (a bounce reads three: light, lobe choice
+/// and roulette, BSDF direction; the camera three).
 inline constexpr uint32_t kSobolBatch = 4;
 
 /// Pairs first … first + 3 of one sample: out[i] = x and out[4 + i] = y of pair first + i,
