@@ -1110,9 +1110,10 @@ def plot_speed_grid(data, path):
 
 
 def section_ray_replay(cfg, names, threads, log):
-    """Closeness to the limit: kauri's ray throughput while rendering against Embree's alone
-    on the same rays (kauri.ray_replay records a render's ray queries and replays them
-    through rtcIntersect1 / rtcOccluded1). Only if the build has kauri._core.ray_replay."""
+    """Closeness to the limit: kauri's ray throughput while rendering against the
+    accelerator's alone on the same rays (kauri.ray_replay records a render's ray queries and
+    replays them through rtcIntersect1 / rtcOccluded1, with the direct tests of a root
+    group's few analytic spheres and disks). Only if the build has kauri._core.ray_replay."""
     import kauri
     if not hasattr(kauri._core, "ray_replay"):
         log("ray replay: not available in this build")
@@ -1140,7 +1141,8 @@ def section_ray_replay(cfg, names, threads, log):
     return data, [f"Configuration: {res}×{res} px, {spp} spp, {threads} threads, path limits as in "
                   "peers.render_kauri. 'render' is rays traced per second of kauri's whole render (all "
                   "the path-tracing work); 'Embree replay' is rays per second when the same recorded "
-                  "ray queries (closest-hit and shadow) are replayed through Embree alone, best of 3. "
+                  "ray queries (closest-hit and shadow) are replayed through the accelerator alone (Embree, "
+                  "and the direct tests of up to 8 analytic spheres and disks), best of 3. "
                   "Their ratio is how close the renderer is to pure traversal cost (100% = nothing "
                   "but traversal).", "", table, ""]
 

@@ -1,6 +1,6 @@
 // Closeness to the limit: record the ray queries a render makes, then replay them
-// through Embree alone (rtcIntersect1 / rtcOccluded1, one ray per call, as the path
-// tracer issues them). The ratio of the render's rays/s to the replay's rays/s says
+// through the accelerator alone (Embree's rtcIntersect1 / rtcOccluded1, one ray per call,
+// as the path tracer issues them, and the direct tests of a few analytic shapes). The ratio of the render's rays/s to the replay's rays/s says
 // how much of the time goes to everything that is not ray traversal. Host code.
 #pragma once
 
