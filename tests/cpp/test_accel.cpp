@@ -1,10 +1,12 @@
 // The CPU accelerator: analytic spheres and disks of the root group tested directly
-// (EmbreeAccel::kMaxDirectShapes) must answer every query as Embree's own sphere and
-// disk primitives do: the same shape, the same distance to float precision, the same
+// (EmbreeAccel::kMaxDirectShapes) must answer queries as Embree's own sphere and disk
+// primitives do: the same shape, the same distance to float precision, the same
 // occlusion, including rays that leave a shape's surface (self-intersection) and rays
-// from inside a sphere.
+// from inside a sphere; and be exact to float precision on spheres at extreme scales.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "kauri/accel/embree_accel.h"
@@ -110,6 +112,69 @@ TEST(EmbreeAccel, RayInsideASphereMeetsItOnTheWayOut) {
   // A shadow ray that stops short of the sphere is not occluded by it.
   EXPECT_FALSE(accel.occluded(Ray{{0, 1, -4}, {0, 0, 2}, 1.4f}));
   EXPECT_TRUE(accel.occluded(Ray{{0, 1, -4}, {0, 0, 2}, 1.6f}));
+}
+
+TEST(EmbreeAccel, HugeAndTinySpheresAreExactToFloatPrecision) {
+  // A planet-sized ground sphere (its top at y = 0) and a 1 mm ball 1 km away, checked
+  // against exact (double) geometry. For the planet, float cannot do better than the
+  // spacing at the centre's distance (ulp(1e4) ≈ 1e-3: o − c cannot hold a smaller
+  // offset), so its hit points must lie on the sphere within 4 such spacings. For the
+  // ball, the perpendicular-offset discriminant decides hits to 0.1% of the radius; Embree
+  // (compared where the ray passes clear of the silhouette) misses some hits just inside it.
+  std::vector<ShapeView> shapes(2);
+  shapes[0].type = shapes[1].type = ShapeType::Sphere;
+  shapes[0].sphere = {{0, -1e4f, 0}, 1e4f};
+  shapes[1].sphere = {{0, 1, -1000}, 1e-3f};
+  EmbreeAccel direct, embree;
+  direct.build({shapes}, {}, {});
+  embree.build({shapes}, {}, {}, 0);
+  ASSERT_EQ(direct.direct_shape_count(), 2u);
+  PCG32 rng;
+  rng.set_sequence(8, 1);
+  int ground = 0, ball = 0, compared = 0;
+  for (int i = 0; i < 20000; ++i) {
+    HitRecord a, b;
+    if (i % 2 == 0) {  // towards the ground from above
+      const Ray r{{0, 1 + 5 * rng.next_float(), 0}, sample_uniform_sphere({rng.next_float(), rng.next_float()}),
+                  kInfinity};
+      const bool ha = direct.intersect(r, &a);
+      // Rays above the horizon miss; those well below it (the horizon dips ~2.5° at 3 m)
+      // meet the planet.
+      if (r.d.y > 0) ASSERT_FALSE(ha) << i;
+      if (r.d.y < -0.1f) ASSERT_TRUE(ha) << i;
+      if (!ha) continue;
+      ASSERT_EQ(a.geom, 0u);
+      const double p[3] = {r.o.x + double(a.t) * r.d.x, r.o.y + double(a.t) * r.d.y + 1e4,
+                           r.o.z + double(a.t) * r.d.z};
+      ASSERT_NEAR(std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]), 1e4, 4e-3) << i;
+      ++ground;
+      continue;
+    }
+    // At the ball, within two radii of its centre.
+    const Point3 o{0, 1, 0}, c = shapes[1].sphere.center;
+    const Point3 t = c + Vec3{rng.next_float() - 0.5f, rng.next_float() - 0.5f, 0} * 4e-3f;
+    const Ray r{o, normalize(t - o), kInfinity};
+    const double f[3] = {double(c.x) - o.x, double(c.y) - o.y, double(c.z) - o.z};
+    const double d[3] = {r.d.x, r.d.y, r.d.z};
+    const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], fd = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
+    const double ff = f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
+    const double perp = std::sqrt(std::max(0.0, ff - fd * fd / dd)) / 1e-3;  // in radii
+    const bool ha = direct.intersect(r, &a);
+    if (perp < 0.999) ASSERT_TRUE(ha) << i << " perp " << perp;
+    if (perp > 1.001) ASSERT_FALSE(ha) << i << " perp " << perp;
+    if (ha) {
+      ASSERT_EQ(a.geom, 1u);
+      ++ball;
+    }
+    if (perp < 0.99 || perp > 1.01) {
+      ++compared;
+      ASSERT_EQ(ha, embree.intersect(r, &b)) << i << " perp " << perp;
+      if (ha) ASSERT_NEAR(a.t, b.t, 1e-4f * b.t) << i;
+    }
+  }
+  EXPECT_GT(ground, 4000);
+  EXPECT_GT(ball, 1500);  // π/16 of the rays aimed at the 4 r × 4 r square
+  EXPECT_GT(compared, 9000);
 }
 
 TEST(EmbreeAccel, ManyAnalyticShapesStayInEmbree) {
