@@ -102,8 +102,11 @@ inline void filter_weights(const PixelFilter& f, Float q, Float p, int i0, int i
     r *= q;
   }
 }
+/// q = e^(−2a) = e^(−1/σ²) of filter_weights: a constant of the filter, computed once per
+/// render rather than per splat.
+inline Float gaussian_step_ratio(const PixelFilter& f) { return std::exp(-1 / (f.sigma * f.sigma)); }
 inline void filter_weights(const PixelFilter& f, Float p, int i0, int i1, Float* w) {
-  filter_weights(f, std::exp(-1 / (f.sigma * f.sigma)), p, i0, i1, w);
+  filter_weights(f, gaussian_step_ratio(f), p, i0, i1, w);
 }
 
 namespace film_detail {
@@ -130,7 +133,8 @@ inline void accumulate(PixelAccum& a, double w, const double v[4]) {
 /// lie within filter.margin() of p's pixel, which the render loop's tile phases rely on.
 /// Pixels of zero weight (outside the support) are added to as well, with nothing: no
 /// branch per pixel, and x + 0 = x.
-inline void splat_sample(const FilmView& film, const PixelFilter& filter, Vec2 p, Vec3 rgb, Float alpha) {
+/// `q`: gaussian_step_ratio(filter).
+inline void splat_sample(const FilmView& film, const PixelFilter& filter, Float q, Vec2 p, Vec3 rgb, Float alpha) {
   static_assert(offsetof(PixelAccum, alpha) == 3 * sizeof(double), "rgb and alpha must be adjacent");
   constexpr int kMaxSpan = 2 * int(kMaxFilterRadius) + 2;  // render() refuses larger radii
   const int m = filter.margin(), px = int(std::floor(p.x)), py = int(std::floor(p.y));
@@ -138,7 +142,6 @@ inline void splat_sample(const FilmView& film, const PixelFilter& filter, Vec2 p
   const int y0 = std::max(0, py - m), y1 = std::min(film.height - 1, py + m);
   if (x1 - x0 + 1 > kMaxSpan || y1 - y0 + 1 > kMaxSpan) return;
   Float wx[kMaxSpan], wy[kMaxSpan];
-  const Float q = std::exp(-1 / (filter.sigma * filter.sigma));
   filter_weights(filter, q, p.x, x0, x1, wx);
   filter_weights(filter, q, p.y, y0, y1, wy);
   const double v[4] = {double(rgb.x), double(rgb.y), double(rgb.z), double(alpha)};
@@ -147,6 +150,9 @@ inline void splat_sample(const FilmView& film, const PixelFilter& filter, Vec2 p
     const Float wrow = wy[y - y0];
     for (int x = x0; x <= x1; ++x) film_detail::accumulate(row[x], double(wx[x - x0] * wrow), v);
   }
+}
+inline void splat_sample(const FilmView& film, const PixelFilter& filter, Vec2 p, Vec3 rgb, Float alpha) {
+  splat_sample(film, filter, gaussian_step_ratio(filter), p, rgb, alpha);
 }
 
 }  // namespace kauri

@@ -93,6 +93,7 @@ struct TileContext {
   const CompiledScene& scene;
   const RenderSettings& cfg;
   FilmView film;
+  Float splat_q;        // gaussian_step_ratio(cfg.filter), once per render
   PixelAOVAccum* aovs;  // film.width × film.height, row-major
   std::atomic<uint64_t>& rays;
   std::atomic<uint64_t>& nan_samples;
@@ -116,7 +117,7 @@ void check_settings(const RenderSettings& cfg) {
 /// Beauty sample into the film: splatted, or into its own pixel with weight 1.
 void add_beauty(const TileContext& c, PixelAccum& px, Vec2 film_pos, Vec3 rgb, Float alpha) {
   if (c.cfg.reconstruction == FilmReconstruction::Splat) {
-    splat_sample(c.film, c.cfg.filter, film_pos, rgb, alpha);
+    splat_sample(c.film, c.cfg.filter, c.splat_q, film_pos, rgb, alpha);
     return;
   }
   px.rgb[0] += double(rgb.x);
@@ -284,7 +285,8 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;
   std::mutex nan_mutex;
-  TileContext ctx{scene, cfg, FilmView{film.data(), w, h}, aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex};
+  TileContext ctx{scene, cfg, FilmView{film.data(), w, h}, gaussian_step_ratio(cfg.filter),
+                  aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex};
 
   const TileGrid grid = make_tile_grid(cfg);
   const int ts = grid.size;
@@ -367,8 +369,8 @@ RayLog record_rays(const CompiledScene& scene, const RenderSettings& cfg, size_t
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;
   std::mutex nan_mutex;
-  TileContext ctx{scene, cfg, FilmView{film.data(), cfg.width, cfg.height}, aov_sums.data(), rays, nan_samples,
-                  nan_pixels, nan_mutex};
+  TileContext ctx{scene, cfg, FilmView{film.data(), cfg.width, cfg.height}, gaussian_step_ratio(cfg.filter),
+                  aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex};
   RayLog log;
   RecordingAccel rec{scene.accel(), &log, max_rays};
   uint64_t n = 0;

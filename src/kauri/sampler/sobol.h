@@ -15,7 +15,9 @@ namespace kauri {
 namespace sobol_detail {
 /// Direction numbers of Sobol' dimension 1 (primitive polynomial x + 1, m_1 = 1):
 /// m_i = 2 m_{i-1} xor m_{i-1}, v_i = m_i << (32 - i), folded into byte tables so
-/// the generator-matrix product is 4 lookups instead of a 32-step loop.
+/// the generator-matrix product is 4 lookups instead of a 32-step loop. Only the
+/// definition (sobol_u32) uses them, which the tests hold the fast paths to; render time
+/// uses the table-free superset_xor below.
 struct Dim1Tables {
   uint32_t t[4][256];
   constexpr Dim1Tables() : t{} {
