@@ -857,7 +857,7 @@ def round_time_ratios(peer_times, kauri_times):
     return float(q.min()), float(np.median(q)), float(q.max())
 
 
-# Each renderer converges as fast as it can: kauri with its Owen-scrambled Sobol' sampler,
+# Each renderer converges as fast as it can: kauri with its default (ZSobol) sampler,
 # Cycles with its default pattern, Mitsuba with its best sampler. "multijitter" (correlated
 # multi-jittered sampling, Kensler 2013) converges fastest of Mitsuba 3's samplers on every
 # bench scene: relMSE x time at 256 spp (llvm_ad_rgb) 1.6x better than Mitsuba's default
@@ -948,7 +948,7 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
     md = [f"Configuration: {res}×{res} px; spp ladder {', '.join(map(str, cfg.ladder))}; per rung one "
           f"warm-up render (repeated while Dr.Jit still compiled), then {runs} timed renders with independent "
           f"seeds, interleaved (every renderer once per round, the order rotated each round); samplers: kauri's "
-          f"Owen-scrambled Sobol', Mitsuba's `{SPEED_MITSUBA_SAMPLER}` (its fastest-converging here), Cycles' default "
+          f"ZSobol (Owen-scrambled Sobol', neighbouring pixels in one sequence), Mitsuba's `{SPEED_MITSUBA_SAMPLER}` (its fastest-converging here), Cycles' default "
           f"pattern; time = median wall time of the render call; relMSE denominator: kauri at {cfg.ref_spp} spp; "
           f"efficiency c = geometric mean of relMSE × time over rungs ≥ {cfg.fit_min_spp} spp; time to the "
           f"target error t = c / target, target = the relMSE kauri reaches at {cfg.ladder[-1]} spp.",
@@ -1224,7 +1224,7 @@ def build_report(info, mode, argv, sections_md, thread_check, elapsed, done, loa
           "reported separately), summarised as the time "
           "to reach the noise kauri reaches at its highest spp, and as the ratio of each peer's time to "
           "kauri's. kauri uses its default sampler "
-          "(Owen-scrambled Sobol') and splats samples with the pixel filter; in the speed section Mitsuba "
+          "(ZSobol: Owen-scrambled Sobol', neighbouring pixels in one sequence) and splats samples with the pixel filter; in the speed section Mitsuba "
           f"uses its `{SPEED_MITSUBA_SAMPLER}` sampler (its fastest-converging on these scenes) and in the "
           "agreement section `independent`, and splats samples the same way; "
           "the samplers are part of the comparison. Both render the beauty alone (kauri with "

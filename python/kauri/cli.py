@@ -97,8 +97,10 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--clamp", type=float, default=None, metavar="C",
                    help=f"clamp indirect sample luminance to C; 0 = off (default: off, or {DEMO_CLAMP:g} "
                         "for the demo scene, which tames its glass caustics)")
-    r.add_argument("--sampler", choices=["sobol", "independent"], default="sobol",
-                   help="sample generator (default: Owen-scrambled Sobol')")
+    r.add_argument("--sampler", choices=["zsobol", "sobol", "independent"], default="zsobol",
+                   help="sample generator: Owen-scrambled Sobol' with neighbouring pixels sharing one "
+                        "sequence in Morton order, blue-noise error (zsobol, default); the same per pixel "
+                        "(sobol); PCG32 streams (independent)")
     r.add_argument("--reconstruction", choices=["splat", "filter_importance"], default="splat",
                    help="pixel reconstruction: splat each sample into the pixels its filter reaches "
                         "(default), or filter importance sampling (one pixel per sample, uncorrelated noise)")

@@ -54,7 +54,7 @@ def _check_render_args(what: str, scene, resolution, spp, seed, threads) -> tupl
 
 
 def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, threads: int = 0,
-           time_limit: float = 0.0, sampler: str = "sobol", max_depth: int = 16, max_diffuse: int = 6,
+           time_limit: float = 0.0, sampler: str = "zsobol", max_depth: int = 16, max_diffuse: int = 6,
            max_glossy: int = 8, max_transmission: int = 12, clamp: float = 0.0, filter: str = "gaussian",
            filter_radius: float = 2.0, filter_sigma: float = 0.5, reconstruction: str = "splat",
            progress: bool = False, aovs: bool = True, light_sampler: str = "tree", **extra) -> RenderOutput:
@@ -72,7 +72,10 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
     a light: "tree" (default) chooses among area and point lights by a light tree, in
     proportion to a bound on what each contributes at the shading point (many-light
     scenes); "power" in proportion to power alone. Environment and distant lights keep
-    their power share either way."""
+    their power share either way. ``sampler``: "zsobol" (default) Owen-scrambled Sobol'
+    points with neighbouring pixels taking blocks of one sequence in a scrambled Morton
+    order (blue-noise error, as pbrt-v4's ZSobol); "sobol", the same points with each pixel
+    scrambled on its own; "independent", PCG32 streams."""
     if extra:
         raise SceneError(f"render: unknown parameter(s) {', '.join(map(repr, sorted(extra)))}; "
                          f"allowed: {', '.join(_RENDER_KEYS)}")
@@ -85,7 +88,7 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
 
 
 def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0, threads: int = 0,
-               sampler: str = "sobol", max_depth: int = 16, max_diffuse: int = 6, max_glossy: int = 8,
+               sampler: str = "zsobol", max_depth: int = 16, max_diffuse: int = 6, max_glossy: int = 8,
                max_transmission: int = 12, filter: str = "gaussian", filter_radius: float = 2.0,
                filter_sigma: float = 0.5, reconstruction: str = "splat", max_rays: int = 50_000_000,
                repeats: int = 3, aovs: bool = True) -> dict:

@@ -624,6 +624,164 @@ TEST(Sobol, SamplerRequestsFollowTheDimensionLayout) {
   }
 }
 
+// ---------------------------------------------------------------- ZSobol
+
+/// Points of pair `pair` of every sample of the pixels in [x0, x0 + w) × [y0, y0 + h)
+/// under a ZSobol (or Sobol) sampler told the render takes `spp` samples per pixel.
+std::vector<Vec2> pixel_block_points(SamplerType type, int x0, int y0, int w, int h, uint32_t spp, uint32_t pair,
+                                     uint64_t seed) {
+  Sampler s;
+  s.type = type;
+  s.set_samples_per_pixel(spp);
+  std::vector<Vec2> pts;
+  for (int y = y0; y < y0 + h; ++y)
+    for (int x = x0; x < x0 + w; ++x)
+      for (uint32_t i = 0; i < spp; ++i) {
+        s.start_pixel_sample(x, y, i, seed);
+        for (uint32_t k = 0; k < pair; ++k) s.get_2d();
+        pts.push_back(s.get_2d());
+      }
+  return pts;
+}
+
+TEST(ZSobol, PixelOrderIsAHierarchicalBijection) {
+  // Every pixel of a 64×64 super-tile gets its own position, and every aligned
+  // 2^k × 2^k block a contiguous run of 4^k positions (the quadtree the nets rest on).
+  for (uint32_t seed : {0u, 7u, 0xdeadbeefu}) {
+    std::vector<uint32_t> z(64 * 64);
+    std::vector<int> seen(64 * 64, 0);
+    for (uint32_t y = 0; y < 64; ++y)
+      for (uint32_t x = 0; x < 64; ++x) {
+        z[y * 64 + x] = zsobol_pixel_index(x, y, 6, seed);
+        ASSERT_LT(z[y * 64 + x], 4096u);
+        ++seen[z[y * 64 + x]];
+      }
+    EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int c) { return c == 1; }));
+    for (uint32_t k = 1; k <= 5; ++k) {
+      const uint32_t side = 1u << k;
+      for (uint32_t by = 0; by < 64; by += side)
+        for (uint32_t bx = 0; bx < 64; bx += side) {
+          const uint32_t run = z[by * 64 + bx] >> (2 * k);
+          for (uint32_t y = by; y < by + side; ++y)
+            for (uint32_t x = bx; x < bx + side; ++x) ASSERT_EQ(z[y * 64 + x] >> (2 * k), run);
+        }
+    }
+    // Skipping the levels above a pixel's highest bit is exact: the same as running
+    // every level of the b-bit tree (their digits are 0 whatever the partner).
+    auto every_level = [&](uint32_t x, uint32_t y, uint32_t b) {
+      uint32_t zz = 0;
+      for (uint32_t l = b; l-- > 0;) {
+        const uint32_t h = hash_u32((zz | (1u << (2 * (b - 1 - l)))) ^ seed);
+        const uint32_t partner = uint32_t((uint64_t(h) * 3) >> 32);
+        const uint32_t xb = (x >> l) & 1, yb = (y >> l) & 1;
+        zz = (zz << 2) | ((partner == 0 ? yb : partner == 1 ? xb : xb ^ yb) << 1) | (partner == 1 ? yb : xb);
+      }
+      return zz;
+    };
+    for (uint32_t b : {6u, 12u})
+      for (uint32_t y = 0; y < 64; y += 3)
+        for (uint32_t x = 0; x < 64; x += 5) ASSERT_EQ(zsobol_pixel_index(x, y, b, seed), every_level(x, y, b));
+  }
+}
+
+TEST(ZSobol, PartnersAreHorizontalVerticalAndDiagonalAlike) {
+  // The pixel whose position differs in the last bit (its block completes a (0,m+1,2)-net
+  // with this one) is the horizontal, vertical or diagonal neighbour, 1/3 each; a plain
+  // Morton order (or bit flips alone) would always make it the horizontal one.
+  int count[3] = {0, 0, 0};
+  PCG32 rng(91, 2);
+  const int n = 30000;
+  for (int t = 0; t < n; ++t) {
+    const uint32_t seed = rng.next_u32(), qx = 2 * (rng.next_u32() % 512), qy = 2 * (rng.next_u32() % 512);
+    const uint32_t z0 = zsobol_pixel_index(qx, qy, 10, seed);
+    int found = -1;
+    for (uint32_t d = 1; d < 4; ++d)
+      if (zsobol_pixel_index(qx + (d & 1), qy + (d >> 1), 10, seed) == (z0 ^ 1u)) found = int(d);
+    ASSERT_GE(found, 1);
+    ++count[found == 1 ? 0 : found == 2 ? 1 : 2];  // d = 1: +x, 2: +y, 3: diagonal
+  }
+  double chi2 = 0;
+  for (int c : count) chi2 += (c - n / 3.0) * (c - n / 3.0) / (n / 3.0);
+  EXPECT_LT(chi2, 18.4) << count[0] << " " << count[1] << " " << count[2];  // 2 dof, p = 1e-4
+}
+
+TEST(ZSobol, EveryPixelIsANetAndSoIsEveryAlignedBlock) {
+  // spp 64 (m = 6): a pixel's 64 points, an aligned 2×2 quad's 256 and an aligned 4×4
+  // block's 1024 are (0,6,2)-, (0,8,2)- and (0,10,2)-nets in every dimension pair.
+  for (uint32_t pair : {0u, 1u, 3u, 7u}) {
+    EXPECT_TRUE(is_02_net(pixel_block_points(SamplerType::ZSobol, 5, 9, 1, 1, 64, pair, 3), 6)) << pair;
+    EXPECT_TRUE(is_02_net(pixel_block_points(SamplerType::ZSobol, 4, 8, 2, 2, 64, pair, 3), 8)) << pair;
+    EXPECT_TRUE(is_02_net(pixel_block_points(SamplerType::ZSobol, 12, 8, 4, 4, 64, pair, 3), 10)) << pair;
+    // Per-pixel Sobol' keeps the pixel's net but not the quad's: the test can tell.
+    EXPECT_TRUE(is_02_net(pixel_block_points(SamplerType::Sobol, 5, 9, 1, 1, 64, pair, 3), 6)) << pair;
+    EXPECT_FALSE(is_02_net(pixel_block_points(SamplerType::Sobol, 4, 8, 2, 2, 64, pair, 3), 8)) << pair;
+  }
+  // spp 100 (blocks of 128): a pixel's first 64 points are still a (0,6,2)-net.
+  std::vector<Vec2> p = pixel_block_points(SamplerType::ZSobol, 3, 3, 1, 1, 100, 2, 5);
+  p.resize(64);
+  EXPECT_TRUE(is_02_net(p, 6));
+}
+
+TEST(ZSobol, SuperTilesAndSeedsAreIndependentAndOverflowFallsBack) {
+  Sampler a, b;
+  a.type = b.type = SamplerType::ZSobol;
+  a.set_samples_per_pixel(256);  // b = 12: super-tiles of 4096 × 4096
+  b.set_samples_per_pixel(256);
+  ASSERT_EQ(zsobol_tile_bits(8), 12u);
+  a.start_pixel_sample(5, 6, 3, 1);
+  b.start_pixel_sample(5 + 4096, 6, 3, 1);  // same place in the next super-tile
+  EXPECT_NE(float_as_bits(a.get_1d()), float_as_bits(b.get_1d()));
+  b.start_pixel_sample(5, 6, 3, 2);  // another render seed
+  a.start_pixel_sample(5, 6, 3, 1);
+  EXPECT_NE(float_as_bits(a.get_1d()), float_as_bits(b.get_1d()));
+  // An index past the announced block would run into the next pixel's points: it takes
+  // the pixel's own Sobol' sequence instead.
+  Sampler sob;
+  sob.type = SamplerType::Sobol;
+  a.start_pixel_sample(5, 6, 256, 1);
+  sob.start_pixel_sample(5, 6, 256, 1);
+  for (int d = 0; d < 8; ++d) EXPECT_EQ(float_as_bits(a.get_1d()), float_as_bits(sob.get_1d()));
+  // No room for pixel bits (2^31 spp): the sampler is the per-pixel one.
+  EXPECT_EQ(zsobol_tile_bits(31), 0u);
+  EXPECT_EQ(ceil_log2(1), 0u);
+  EXPECT_EQ(ceil_log2(100), 7u);
+  EXPECT_EQ(ceil_log2(256), 8u);
+}
+
+TEST(ZSobol, UniformAcrossPixelsAndPairs) {
+  // One point per draw from a random render seed, pixel, index and pair: uniform. And two
+  // pairs of one sample (pair 0.x against pair 1.y) jointly uniform: the padding holds.
+  // Each draw takes its own render seed, so draws are independent and the chi-square
+  // exact (a million draws from one render's 4M points would also see that finite set's
+  // own chance departures, which for the joint of two pairs are as large as random's).
+  auto one = [&](PCG32& r, double* x, double* y) {
+    Sampler s;
+    s.type = SamplerType::ZSobol;
+    s.set_samples_per_pixel(64);
+    s.start_pixel_sample(int(r.next_u32() % 2048), int(r.next_u32() % 2048), r.next_u32() % 64, r.next_u32());
+    for (uint32_t k = r.next_u32() % 8; k > 0; --k) s.get_2d();
+    Vec2 p = s.get_2d();
+    *x = double(p.x);
+    *y = double(p.y);
+    return true;
+  };
+  RectChi2Config cfg{"zsobol across pixels", 0, 1, 0, 1, 32, 32, 1000000, 74};
+  EXPECT_TRUE(test::rect_chi2(one, [](double, double) { return 1.0; }, cfg));
+  auto two = [&](PCG32& r, double* x, double* y) {
+    Sampler s;
+    s.type = SamplerType::ZSobol;
+    s.set_samples_per_pixel(1024);
+    s.start_pixel_sample(int(r.next_u32() % 64), int(r.next_u32() % 64), r.next_u32() % 1024, r.next_u32());
+    Vec2 a = s.get_2d();
+    Vec2 b = s.get_2d();
+    *x = double(a.x);
+    *y = double(b.y);
+    return true;
+  };
+  RectChi2Config cfg2{"zsobol pair 0.x vs pair 1.y", 0, 1, 0, 1, 32, 32, 1000000, 75};
+  EXPECT_TRUE(test::rect_chi2(two, [](double, double) { return 1.0; }, cfg2));
+}
+
 TEST(IndependentSampler, Uniform) {
   auto sample = [&](PCG32& r, double* x, double* y) {
     Sampler s;

@@ -94,7 +94,7 @@ def test_unwritable_output_raises(small_demo, tmp_path):
         small_demo.write_exr(str(tmp_path / "missing_dir" / "x.exr"))
 
 
-@pytest.mark.parametrize("sampler", ["sobol", "independent"])
+@pytest.mark.parametrize("sampler", ["zsobol", "sobol", "independent"])
 def test_same_seed_same_image_for_any_thread_count(sampler):
     scene = demo.build()
     a = kauri.render(scene, spp=6, resolution=(40, 32), seed=3, threads=1, sampler=sampler)

@@ -175,8 +175,9 @@ RenderSettings render_settings(int width, int height, int spp, uint64_t seed, in
   cfg.threads = threads;
   cfg.time_limit = time_limit;
   if (sampler == "sobol") cfg.sampler = SamplerType::Sobol;
+  else if (sampler == "zsobol") cfg.sampler = SamplerType::ZSobol;
   else if (sampler == "independent") cfg.sampler = SamplerType::Independent;
-  else throw std::invalid_argument("render: parameter 'sampler': expected 'sobol' or 'independent', got '" + sampler + "'");
+  else throw std::invalid_argument("render: parameter 'sampler': expected 'zsobol', 'sobol' or 'independent', got '" + sampler + "'");
   cfg.integrator.max_depth = max_depth;
   cfg.integrator.max_diffuse = max_diffuse;
   cfg.integrator.max_glossy = max_glossy;

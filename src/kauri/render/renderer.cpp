@@ -137,6 +137,7 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
   Sampler sampler;
   sampler.type = c.cfg.sampler;
+  sampler.set_samples_per_pixel(uint32_t(c.cfg.spp));
   for (uint32_t s = s0; s < s1; ++s) {
     sampler.start_pixel_sample(x, y, s, c.cfg.seed);
     // Splatting: uniform in the pixel, the filter weights the splat; filter importance

@@ -20,7 +20,7 @@ struct RenderSettings {
   uint64_t seed = 0;
   int threads = 0;            // 0 = all cores
   double time_limit = 0;      // seconds; 0 = none (stops at a pass boundary)
-  SamplerType sampler = SamplerType::Sobol;
+  SamplerType sampler = SamplerType::ZSobol;
   IntegratorSettings integrator;
   PixelFilter filter;
   FilmReconstruction reconstruction = FilmReconstruction::Splat;

@@ -4,10 +4,14 @@
 
 #include "kauri/sampler/rng.h"
 #include "kauri/sampler/sobol.h"
+#include "kauri/sampler/zsobol.h"
 
 namespace kauri {
 
-enum class SamplerType : uint32_t { Independent = 0, Sobol = 1 };
+/// Sobol: every pixel scrambles its own sequence. ZSobol: the pixels of a 2^b × 2^b
+/// super-tile share one sequence, each pixel a block of it (zsobol.h), so neighbouring
+/// pixels' errors cancel (blue noise); every pixel's own points are as Sobol'.
+enum class SamplerType : uint32_t { Independent = 0, Sobol = 1, ZSobol = 2 };
 
 struct Sampler {
   SamplerType type = SamplerType::Sobol;
@@ -15,18 +19,34 @@ struct Sampler {
   uint32_t index = 0;
   uint32_t reversed_index = 0;  // R(index): shared by every Sobol' pair of the sample
   uint32_t dimension = 0;
+  uint32_t log2_spp = 0;        // ZSobol: a pixel's block holds 2^log2_spp sample indices
   // Sobol': pairs [batch_first, batch_first + kSobolBatch) of the current sample, x then
   // y (owen_sobol_batch); batch_first = ~0u when none is computed.
   uint32_t batch_first = ~0u;
   Float batch[2 * kSobolBatch];
   PCG32 rng;
 
+  /// Samples per pixel the render takes (ZSobol sizes each pixel's block by it).
+  KAURI_HOST_DEVICE void set_samples_per_pixel(uint32_t spp) { log2_spp = ceil_log2(spp); }
+
   /// Starts sample `index` of pixel (px, py). `seed` decorrelates whole renders.
+  /// ZSobol: a sample index beyond the pixel's block (more samples than
+  /// set_samples_per_pixel announced) falls back to the pixel's own Sobol' sequence, so
+  /// no two pixels ever share a point.
   KAURI_HOST_DEVICE void start_pixel_sample(int px, int py, uint32_t sample_index, uint64_t seed) {
-    uint64_t h = hash4(uint64_t(uint32_t(px)), uint64_t(uint32_t(py)), seed, 0x6b617572u);
-    pixel_seed = uint32_t(h ^ (h >> 32));
-    index = sample_index;
-    reversed_index = reverse_bits32(sample_index);
+    uint32_t i = sample_index;
+    const uint32_t b = zsobol_tile_bits(log2_spp);
+    if (type == SamplerType::ZSobol && b > 0 && (sample_index >> log2_spp) == 0) {
+      const uint32_t mask = (1u << b) - 1;
+      const uint64_t tile = hash4(uint64_t(uint32_t(px) >> b), uint64_t(uint32_t(py) >> b), seed, 0x7a736f62u);
+      pixel_seed = uint32_t(tile >> 32);  // shared by the super-tile
+      i = (zsobol_pixel_index(uint32_t(px) & mask, uint32_t(py) & mask, b, uint32_t(tile)) << log2_spp) | i;
+    } else {
+      uint64_t h = hash4(uint64_t(uint32_t(px)), uint64_t(uint32_t(py)), seed, 0x6b617572u);
+      pixel_seed = uint32_t(h ^ (h >> 32));
+    }
+    index = i;
+    reversed_index = reverse_bits32(i);
     dimension = 0;
     batch_first = ~0u;
     if (type == SamplerType::Independent) rng.set_sequence(pixel_seed, mix_bits(sample_index + 1));
