@@ -20,6 +20,10 @@ struct Sampler {
   uint32_t reversed_index = 0;  // R(index): shared by every Sobol' pair of the sample
   uint32_t dimension = 0;
   uint32_t log2_spp = 0;        // ZSobol: a pixel's block holds 2^log2_spp sample indices
+  // ZSobol: the last pixel's first index and super-tile seed (px = -1: none yet).
+  int zsobol_px = -1, zsobol_py = -1;
+  uint64_t zsobol_render_seed = 0;
+  uint32_t zsobol_block = 0, zsobol_seed = 0;
   // Sobol': pairs [batch_first, batch_first + kSobolBatch) of the current sample, x then
   // y (owen_sobol_batch); batch_first = ~0u when none is computed.
   uint32_t batch_first = ~0u;
@@ -27,7 +31,10 @@ struct Sampler {
   PCG32 rng;
 
   /// Samples per pixel the render takes (ZSobol sizes each pixel's block by it).
-  KAURI_HOST_DEVICE void set_samples_per_pixel(uint32_t spp) { log2_spp = ceil_log2(spp); }
+  KAURI_HOST_DEVICE void set_samples_per_pixel(uint32_t spp) {
+    log2_spp = ceil_log2(spp);
+    zsobol_px = -1;
+  }
 
   /// Starts sample `index` of pixel (px, py). `seed` decorrelates whole renders.
   /// ZSobol: a sample index beyond the pixel's block (more samples than
@@ -37,10 +44,18 @@ struct Sampler {
     uint32_t i = sample_index;
     const uint32_t b = zsobol_tile_bits(log2_spp);
     if (type == SamplerType::ZSobol && b > 0 && (sample_index >> log2_spp) == 0) {
-      const uint32_t mask = (1u << b) - 1;
-      const uint64_t tile = hash4(uint64_t(uint32_t(px) >> b), uint64_t(uint32_t(py) >> b), seed, 0x7a736f62u);
-      pixel_seed = uint32_t(tile >> 32);  // shared by the super-tile
-      i = (zsobol_pixel_index(uint32_t(px) & mask, uint32_t(py) & mask, b, uint32_t(tile)) << log2_spp) | i;
+      // A pixel's samples follow each other: its block and seed are kept, not recomputed.
+      if (px != zsobol_px || py != zsobol_py || seed != zsobol_render_seed) {
+        const uint32_t mask = (1u << b) - 1;
+        const uint64_t tile = hash4(uint64_t(uint32_t(px) >> b), uint64_t(uint32_t(py) >> b), seed, 0x7a736f62u);
+        zsobol_seed = uint32_t(tile >> 32);  // shared by the super-tile
+        zsobol_block = zsobol_pixel_index(uint32_t(px) & mask, uint32_t(py) & mask, b, uint32_t(tile)) << log2_spp;
+        zsobol_px = px;
+        zsobol_py = py;
+        zsobol_render_seed = seed;
+      }
+      pixel_seed = zsobol_seed;
+      i |= zsobol_block;
     } else {
       uint64_t h = hash4(uint64_t(uint32_t(px)), uint64_t(uint32_t(py)), seed, 0x6b617572u);
       pixel_seed = uint32_t(h ^ (h >> 32));
