@@ -17,7 +17,7 @@ struct TestFilm {
   int w, h;
   std::vector<PixelAccum> px;
   TestFilm(int w_, int h_) : w(w_), h(h_), px(size_t(w_) * size_t(h_)) {}
-  FilmView view() { return FilmView{px.data(), w, h, w}; }
+  FilmView view() { return FilmView{px.data(), w, h}; }
   const PixelAccum& at(int x, int y) const { return px[size_t(y) * size_t(w) + size_t(x)]; }
 };
 
@@ -143,34 +143,6 @@ void expect_disjoint_phases(int w, int h, float radius, FilmReconstruction rec) 
     }
   }
   for (int c : seen) EXPECT_EQ(c, 1);
-  // Nor a cache line: the footprints of one phase's tiles, as byte ranges of the film
-  // (rows film_stride apart), leave ≥ 64 bytes between them, so no 64-byte line (wherever
-  // the film starts) holds pixels two threads write at once, not even at the ends of
-  // consecutive rows.
-  if (m == 0) return;
-  for (const std::vector<int>& phase : g.phases) {
-    std::vector<std::pair<size_t, int>> starts;  // (first byte of a footprint row, tile)
-    std::vector<size_t> ends;
-    for (int t : phase) {
-      int x0 = (t % g.nx) * g.size, y0 = (t / g.nx) * g.size;
-      for (int y = std::max(0, y0 - m); y < std::min(h, y0 + g.size + m); ++y) {
-        const size_t a = (size_t(y) * film_stride(w) + size_t(std::max(0, x0 - m))) * sizeof(PixelAccum);
-        const size_t b = (size_t(y) * film_stride(w) + size_t(std::min(w, x0 + g.size + m))) * sizeof(PixelAccum);
-        starts.push_back({a, t});
-        ends.push_back(b);
-      }
-    }
-    std::vector<size_t> order(starts.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](size_t i, size_t j) { return starts[i].first < starts[j].first; });
-    for (size_t k = 1; k < order.size(); ++k) {
-      const size_t prev = order[k - 1], cur = order[k];
-      if (starts[prev].second == starts[cur].second) continue;  // one tile's own rows
-      ASSERT_GE(starts[cur].first, ends[prev] + 64)
-          << "tiles " << starts[prev].second << " and " << starts[cur].second << " write within one cache line ("
-          << w << "x" << h << ", radius " << radius << ", tile " << g.size << ")";
-    }
-  }
 }
 
 TEST(TileGrid, SplatPhasesNeverShareAPixel) {
@@ -201,7 +173,7 @@ TEST(TileGrid, SmallImagesGetEnoughTilesPerPhase) {
   cfg.width = cfg.height = 32;
   TileGrid g = make_tile_grid(cfg);
   ASSERT_EQ(g.phases.size(), 4u);
-  for (const auto& phase : g.phases) EXPECT_GE(phase.size(), 8u);
+  for (const auto& phase : g.phases) EXPECT_GE(phase.size(), 16u);
 }
 
 }  // namespace

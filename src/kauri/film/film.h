@@ -73,13 +73,11 @@ struct PixelAOVAccum {
   uint32_t depth_count = 0;
 };
 
-/// The film as the render loop writes it: w × h pixels, row-major top-down, rows `stride`
-/// ≥ w pixels apart (the render pads them so threads at the two ends of consecutive rows
-/// write different cache lines).
+/// The film as the render loop writes it: w × h pixels, row-major top-down.
 struct FilmView {
   PixelAccum* pixels;
-  int width, height, stride;
-  PixelAccum& at(int x, int y) const { return pixels[size_t(y) * size_t(stride) + size_t(x)]; }
+  int width, height;
+  PixelAccum& at(int x, int y) const { return pixels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
 /// 1D splat weights w[i] = weight_1d(p − (i0 + i + ½)) for pixels i0..i1. Gaussian: two

@@ -94,7 +94,7 @@ struct TileContext {
   const RenderSettings& cfg;
   FilmView film;
   Float splat_q;        // gaussian_step_ratio(cfg.filter), once per render
-  PixelAOVAccum* aovs;  // film.height rows of film.stride, as the film
+  PixelAOVAccum* aovs;  // film.width × film.height, row-major
   std::atomic<uint64_t>& rays;
   std::atomic<uint64_t>& nan_samples;
   std::vector<NaNReport>& nan_pixels;
@@ -133,7 +133,7 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   const SceneView& sv = c.scene.view();
   PixelAccum& px = c.film.at(x, y);
   // Data AOV sums: allocated only when the render gathers them (cfg.aovs).
-  PixelAOVAccum* aov = c.cfg.aovs ? c.aovs + (size_t(y) * size_t(c.film.stride) + size_t(x)) : nullptr;
+  PixelAOVAccum* aov = c.cfg.aovs ? c.aovs + (size_t(y) * size_t(c.film.width) + size_t(x)) : nullptr;
   const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
   Sampler sampler;
   sampler.type = c.cfg.sampler;
@@ -199,11 +199,10 @@ RenderResult resolve(const std::vector<PixelAccum>& film, const std::vector<Pixe
   RenderResult r;
   r.width = w;
   r.height = h;
-  const size_t n = size_t(w) * size_t(h), stride = film_stride(w);
-  auto sums = [&](size_t i) { return (i / size_t(w)) * stride + i % size_t(w); };  // output pixel → film
+  const size_t n = size_t(w) * size_t(h);
   r.rgba.resize(4 * n);
   for (size_t i = 0; i < n; ++i) {
-    const PixelAccum& p = film[sums(i)];
+    const PixelAccum& p = film[i];
     double inv = p.weight > 0 ? 1.0 / p.weight : 0;
     for (int k = 0; k < 3; ++k) r.rgba[4 * i + size_t(k)] = float(p.rgb[k] * inv);
     r.rgba[4 * i + 3] = float(p.alpha * inv);
@@ -213,7 +212,7 @@ RenderResult resolve(const std::vector<PixelAccum>& film, const std::vector<Pixe
   r.normal.resize(3 * n);
   r.depth.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    const PixelAOVAccum& p = aov_sums[sums(i)];
+    const PixelAOVAccum& p = aov_sums[i];
     Vec3 albedo_xyz;
     for (int k = 0; k < 3; ++k)
       albedo_xyz[k] = p.white_xyz[k] > 0 ? Float(p.albedo_xyz[k] / p.white_xyz[k]) * white_xyz[k] : 0;
@@ -239,17 +238,10 @@ TileGrid make_tile_grid(const RenderSettings& cfg) {
   int ts = std::max(1, cfg.tile_size);
   const int m = cfg.reconstruction == FilmReconstruction::Splat ? cfg.filter.margin() : 0;
   if (m > 0) {
-    // Tiles of one phase are one tile apart, and each splats m pixels beyond its edges:
-    // between their footprints lie ts − 2m pixels. At least kTileGapPixels of them keep
-    // two threads off each other's cache lines; tiles of exactly 2m (what small images
-    // got) left the footprints touching, and a line holding pixels of both would move
-    // between the cores at every splat near the seam (on this 2-core machine the effect
-    // was within its timing noise: 2-thread speedups of 1.68-1.92 either way).
-    const int min_ts = 2 * m + kTileGapPixels;
-    ts = std::max(ts, min_ts);
+    ts = std::max(ts, 2 * m);
     // Small images: smaller tiles until each phase has enough tiles to balance the
     // threads. A function of the image and filter only (never of the thread count).
-    while (ts > min_ts && count(ts) < 4 * 64) ts = std::max(min_ts, ts / 2);
+    while (ts / 2 >= 2 * m && count(ts) < 4 * 64) ts /= 2;
   }
   g.size = ts;
   g.nx = (w + ts - 1) / ts;
@@ -289,12 +281,12 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   RenderSettings cfg = settings;
   cfg.integrator.albedo_aov = cfg.aovs;
   const int w = cfg.width, h = cfg.height;
-  std::vector<PixelAccum> film(film_stride(w) * size_t(h));
+  std::vector<PixelAccum> film(size_t(w) * size_t(h));
   std::vector<PixelAOVAccum> aov_sums(cfg.aovs ? film.size() : 0);
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;
   std::mutex nan_mutex;
-  TileContext ctx{scene, cfg, FilmView{film.data(), w, h, int(film_stride(w))}, gaussian_step_ratio(cfg.filter),
+  TileContext ctx{scene, cfg, FilmView{film.data(), w, h}, gaussian_step_ratio(cfg.filter),
                   aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex};
 
   const TileGrid grid = make_tile_grid(cfg);
@@ -373,13 +365,12 @@ struct RecordingAccel {
 
 RayLog record_rays(const CompiledScene& scene, const RenderSettings& cfg, size_t max_rays) {
   check_settings(cfg);
-  std::vector<PixelAccum> film(film_stride(cfg.width) * size_t(cfg.height));
+  std::vector<PixelAccum> film(size_t(cfg.width) * size_t(cfg.height));
   std::vector<PixelAOVAccum> aov_sums(film.size());
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;
   std::mutex nan_mutex;
-  TileContext ctx{scene, cfg, FilmView{film.data(), cfg.width, cfg.height, int(film_stride(cfg.width))},
-                  gaussian_step_ratio(cfg.filter),
+  TileContext ctx{scene, cfg, FilmView{film.data(), cfg.width, cfg.height}, gaussian_step_ratio(cfg.filter),
                   aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex};
   RayLog log;
   RecordingAccel rec{scene.accel(), &log, max_rays};

@@ -60,22 +60,11 @@ struct RenderResult {
   RenderStats stats;
 };
 
-/// Pixels between the splat footprints of two tiles rendered at once: 2 × 40-byte
-/// PixelAccum ≥ one 64-byte cache line, so no line holds pixels of both.
-inline constexpr int kTileGapPixels = (64 + int(sizeof(PixelAccum)) - 1) / int(sizeof(PixelAccum));
-
-/// Pixels from one film row to the next: the width and a gap, so the last pixels of a row
-/// and the first of the next (tiles at opposite image edges, which share a phase when the
-/// tile columns are odd in number) never share a cache line either. The data-AOV sums
-/// (PixelAOVAccum, larger) are laid out alike.
-inline size_t film_stride(int width) { return size_t(width) + size_t(kTileGapPixels); }
-
 /// Tiles of a render. A splat reaches filter.margin() pixels beyond its tile, so with
 /// splatting the tiles are rendered in four phases by (tx mod 2, ty mod 2): tiles of one
-/// phase are a whole tile apart and, with tiles ≥ 2 margins + kTileGapPixels wide, their
-/// splats never touch the same pixel or cache line. No locks, and each pixel receives its
-/// sums in the same order whatever the thread count, so images stay bit-identical across
-/// thread counts.
+/// phase are a whole tile apart and, with tiles ≥ 2 margins wide, their splats never
+/// touch the same pixel. No locks, and each pixel receives its sums in the same order
+/// whatever the thread count, so images stay bit-identical across thread counts.
 struct TileGrid {
   int size = 16, nx = 1, ny = 1;
   std::vector<std::vector<int>> phases;  // tile indices (ty · nx + tx) per phase
