@@ -83,6 +83,23 @@ TEST(Sampling, UniformDisk) {
   RectChi2Config cfg{"uniform disk", 0, 1, 0, 1, 32, 32, 1000000, 11};
   EXPECT_TRUE(test::rect_chi2(sample, [](double, double) { return 1.0; }, cfg));
   EXPECT_EQ(sample_uniform_disk({0.5f, 0.5f}).x, 0);
+  // The polynomial cosine and sine match the exact ones to float rounding over the
+  // quarter turn, and the mapping matches the trigonometric one.
+  for (int i = -1000; i <= 1000; ++i) {
+    const double phi = kPiD / 4 * i / 1000;
+    const Vec2 cs = cos_sin_quarter(Float(phi));
+    ASSERT_NEAR(double(cs.x), std::cos(double(Float(phi))), 1.2e-7) << phi;
+    ASSERT_NEAR(double(cs.y), std::sin(double(Float(phi))), 1.2e-7) << phi;
+  }
+  PCG32 rng(3, 5);
+  for (int i = 0; i < 100000; ++i) {
+    const Vec2 u = next_2d(rng), d = sample_uniform_disk(u);
+    const double a = 2 * double(u.x) - 1, b = 2 * double(u.y) - 1;
+    const bool wide = std::fabs(a) > std::fabs(b);
+    const double r = wide ? a : b, th = wide ? kPiD / 4 * (b / a) : kPiD / 2 - kPiD / 4 * (a / b);
+    ASSERT_NEAR(double(d.x), r * std::cos(th), 3e-7);
+    ASSERT_NEAR(double(d.y), r * std::sin(th), 3e-7);
+  }
 }
 
 TEST(Sampling, CosineHemisphere) {

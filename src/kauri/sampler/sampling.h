@@ -6,19 +6,28 @@
 
 namespace kauri {
 
+/// (cos φ, sin φ) for |φ| ≤ π/4 by their Taylor series to degree 10 and 9: the first
+/// omitted terms, φ¹²/12! and φ¹¹/11!, are below 2e-9 there, under float's rounding. No
+/// range reduction, no library call, and the same on every CPU and on CUDA.
+KAURI_HOST_DEVICE inline Vec2 cos_sin_quarter(Float phi) {
+  const Float x2 = phi * phi;
+  const Float c = 1 + x2 * (-1.0f / 2 + x2 * (1.0f / 24 + x2 * (-1.0f / 720 + x2 * (1.0f / 40320 - x2 * (1.0f / 3628800)))));
+  const Float s = phi * (1 + x2 * (-1.0f / 6 + x2 * (1.0f / 120 + x2 * (-1.0f / 5040 + x2 * (1.0f / 362880)))));
+  return {c, s};
+}
+
 /// Concentric square → disk mapping (Shirley & Chiu 1997): low distortion keeps strata.
+/// Each wedge's angle is π/4 · (ratio) within a quarter turn, so the cosine and sine come
+/// from cos_sin_quarter (libm's sincosf was 1.8% of a Cornell box render's instructions).
 KAURI_HOST_DEVICE inline Vec2 sample_uniform_disk(Vec2 u) {
   Float a = 2 * u.x - 1, b = 2 * u.y - 1;
   if (a == 0 && b == 0) return {0, 0};
-  Float r, theta;
   if (std::fabs(a) > std::fabs(b)) {
-    r = a;
-    theta = kPiOver4 * (b / a);
-  } else {
-    r = b;
-    theta = kPiOver2 - kPiOver4 * (a / b);
+    const Vec2 cs = cos_sin_quarter(kPiOver4 * (b / a));  // θ = π/4 · b/a
+    return {a * cs.x, a * cs.y};
   }
-  return {r * std::cos(theta), r * std::sin(theta)};
+  const Vec2 cs = cos_sin_quarter(kPiOver4 * (a / b));  // θ = π/2 − π/4 · a/b
+  return {b * cs.y, b * cs.x};
 }
 
 /// Malley's method: cosine-weighted hemisphere around +z, pdf = cosθ/π.
