@@ -67,6 +67,18 @@ TEST(FilmSplat, GaussianWeightsFollowTheFilter) {
 
 // The two-exponential recurrence must match weight_1d, including narrow Gaussians on
 // wide supports (where it falls back to one exponential per pixel).
+TEST(FilmSplat, PolynomialExpMatchesExp) {
+  // exp_poly (the splat's exponentials) over its whole domain |x| <= 80.
+  double worst = 0;
+  for (int i = -800000; i <= 800000; ++i) {
+    const float x = float(i) * 1e-4f;
+    const double want = std::exp(double(x)), got = double(exp_poly(x));
+    worst = std::max(worst, std::fabs(got - want) / want);
+  }
+  EXPECT_LT(worst, 4e-7) << worst;
+  EXPECT_EQ(exp_poly(0.0f), 1.0f);
+}
+
 TEST(FilmSplat, RecurrenceWeightsMatchTheFilter) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(0, 1);
