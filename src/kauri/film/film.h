@@ -133,8 +133,8 @@ inline void accumulate(PixelAccum& a, double w, const double v[4]) {
 /// Adds a beauty sample (rgb, alpha) at raster position p (pixels, y down) to every pixel
 /// the filter reaches, clipped to the image. Host code: pixels touched by one call
 /// lie within filter.margin() of p's pixel, which the render loop's tile phases rely on.
-/// Pixels of zero weight (outside the support) are added to as well, with nothing: no
-/// branch per pixel, and x + 0 = x.
+/// Pixels of zero weight (outside the support) inside the span are added to as well, with
+/// nothing: no branch per pixel, and x + 0 = x.
 /// `q`: gaussian_step_ratio(filter).
 inline void splat_sample(const FilmView& film, const PixelFilter& filter, Float q, Vec2 p, Vec3 rgb, Float alpha) {
   static_assert(offsetof(PixelAccum, alpha) == 3 * sizeof(double), "rgb and alpha must be adjacent");
@@ -146,11 +146,19 @@ inline void splat_sample(const FilmView& film, const PixelFilter& filter, Float 
   Float wx[kMaxSpan], wy[kMaxSpan];
   filter_weights(filter, q, p.x, x0, x1, wx);
   filter_weights(filter, q, p.y, y0, y1, wy);
+  // The span is 2m + 1 pixels, the support of a radius-r filter 2r: with r = 2 one end
+  // column and one end row always weigh 0 (25 pixels become 16). Dropping zero-weight ends
+  // changes no sum, and only ends are dropped: no branch per pixel.
+  int bx = 0, ex = x1 - x0, by = 0, ey = y1 - y0;
+  if (ex > 0 && wx[0] == 0) ++bx;
+  if (ex > bx && wx[ex] == 0) --ex;
+  if (ey > 0 && wy[0] == 0) ++by;
+  if (ey > by && wy[ey] == 0) --ey;
   const double v[4] = {double(rgb.x), double(rgb.y), double(rgb.z), double(alpha)};
-  for (int y = y0; y <= y1; ++y) {
-    PixelAccum* row = &film.at(0, y);
-    const Float wrow = wy[y - y0];
-    for (int x = x0; x <= x1; ++x) film_detail::accumulate(row[x], double(wx[x - x0] * wrow), v);
+  for (int j = by; j <= ey; ++j) {
+    PixelAccum* row = &film.at(x0, y0 + j);
+    const Float wrow = wy[j];
+    for (int i = bx; i <= ex; ++i) film_detail::accumulate(row[i], double(wx[i] * wrow), v);
   }
 }
 inline void splat_sample(const FilmView& film, const PixelFilter& filter, Vec2 p, Vec3 rgb, Float alpha) {
