@@ -76,7 +76,7 @@ struct BSDF {
       Float t = lobe_scale(i, wo, wi);
       if (t > 0) f += lobes[i].eval(wo, wi, mode) * weight[i] * t;
     }
-    return f * shading_normal_correction(wo_world, wi_world, wi);
+    return f * shading_normal_correction(wo_world, wi_world, wo, wi);
   }
   KAURI_HOST_DEVICE Float pdf(Vec3 wo_world, Vec3 wi_world) const {
     Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
@@ -99,7 +99,7 @@ struct BSDF {
     }
     *pdf_out = p;
     if (wo.z == 0) return SampledSpectrum(0);
-    return f * shading_normal_correction(wo_world, wi_world, wi);
+    return f * shading_normal_correction(wo_world, wi_world, wo, wi);
   }
   /// `uc` picks the lobe (and is reused, rescaled, for the lobe's own discrete choice).
   KAURI_HOST_DEVICE BSDFSample sample(Vec3 wo_world, Float uc, Vec2 u, SampledWavelengths& lambda,
@@ -140,7 +140,7 @@ struct BSDF {
         s.pdf += select_prob[i] * p_i;
       }
     }
-    s.f *= shading_normal_correction(wo_world, wi_world, s.wi);
+    s.f *= shading_normal_correction(wo_world, wi_world, wo, s.wi);
     s.wi = wi_world;
     return s;
   }
@@ -148,8 +148,8 @@ struct BSDF {
   /// Light leaks where shading and geometric normals disagree: a direction on
   /// the wrong side of the true surface gets no reflection/transmission it
   /// cannot physically have.
-  KAURI_HOST_DEVICE Float shading_normal_correction(Vec3 wo_world, Vec3 wi_world, Vec3 wi_local) const {
-    Vec3 wo_local = frame.to_local(wo_world);
+  /// `wo_local`, `wi_local`: the same directions in the shading frame (the callers have them).
+  KAURI_HOST_DEVICE Float shading_normal_correction(Vec3 wo_world, Vec3 wi_world, Vec3 wo_local, Vec3 wi_local) const {
     bool geo_reflect = dot(wo_world, ng) * dot(wi_world, ng) > 0;
     bool shading_reflect = wo_local.z * wi_local.z > 0;
     return geo_reflect == shading_reflect ? Float(1) : Float(0);
