@@ -329,7 +329,8 @@ def versions():
         v["commit"] = "unknown"
     try:
         import kauri
-        v["kauri"] = kauri.__version__
+        b = kauri.build_info
+        v["kauri"] = f"{kauri.__version__} ({b['compiler']}, -march={b['march']}, pgo={b['pgo']})"
     except Exception as e:  # noqa: BLE001 - reported, not fatal here
         v["kauri"] = f"import failed: {e}"
     try:

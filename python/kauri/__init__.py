@@ -10,6 +10,8 @@ from .scene import (Attribute, Conductor, Dielectric, DiffuseTransmission, Emiss
                     RoughDielectric, Scene, SceneError, Sheen, ThinDielectric)
 
 __version__ = _core.__version__
+#: How the native module was compiled: {"compiler", "march", "pgo"} (pgo: off, generate or use).
+build_info = dict(_core.build_info)
 __all__ = ["Scene", "Lambert", "Dielectric", "Conductor", "Emission", "Material", "Lobe", "Attribute", "SceneError", "render",
            "RoughDielectric", "ThinDielectric", "DiffuseTransmission", "Sheen", "EmissionLobe", "OrenNayar", "ImageTexture",
-           "RenderOutput", "ray_replay", "__version__"]
+           "RenderOutput", "ray_replay", "__version__", "build_info"]

@@ -119,8 +119,9 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.version:
-        from . import __version__
-        print(f"kauri {__version__}")
+        from . import __version__, build_info
+        print(f"kauri {__version__} ({build_info['compiler']}, -march={build_info['march']}, "
+              f"profile-guided: {build_info['pgo']})")
         return 0
     if args.command == "render":
         if args.spp <= 0:

@@ -208,6 +208,13 @@ NB_MODULE(_core, m) {
   using namespace kauri;
   m.doc() = "kauri core: spectral path tracer";
   m.attr("__version__") = KAURI_VERSION;
+  // How this binary was compiled (kauri --version, the benchmark report): figures are
+  // only comparable between builds with the same compiler, target and profile.
+  nb::dict build;
+  build["compiler"] = KAURI_BUILD_COMPILER;
+  build["march"] = KAURI_BUILD_MARCH;
+  build["pgo"] = KAURI_BUILD_PGO;
+  m.attr("build_info") = build;
 
   nb::class_<Scene>(m, "Scene")
       .def(nb::init<>())

@@ -1,0 +1,49 @@
+"""The build the tests run against is the one users get: `make build` compiles kauri with a
+profile of scripts/pgo_train.py's renders (scripts/pgo_build) unless KAURI_PGO=0."""
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+import kauri
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_build_info_names_compiler_target_and_profile():
+    b = kauri.build_info
+    assert set(b) == {"compiler", "march", "pgo"}
+    assert b["pgo"] in ("off", "generate", "use")
+    assert b["compiler"].split()[0] in ("GNU", "Clang", "AppleClang") and b["march"]
+
+
+def test_default_build_is_profile_guided():
+    # An instrumented build ("generate") must never be what is installed, and `make build`
+    # (scripts/pgo_build) installs the profile-guided one unless told KAURI_PGO=0.
+    want = "off" if os.environ.get("KAURI_PGO") == "0" else "use"
+    if kauri.build_info["compiler"].split()[0] != "GNU":
+        want = "off"
+    assert kauri.build_info["pgo"] == want
+
+
+def test_training_scenes_render_finite_and_lit():
+    # The training workload is a real render of every scene it builds: a scene that fails
+    # to build or renders black would leave its code paths out of the profile.
+    sys.path.insert(0, str(ROOT / "scripts"))
+    try:
+        import pgo_train
+    finally:
+        sys.path.pop(0)
+    for build in (pgo_train.loft, pgo_train.studio, pgo_train.lamps):
+        out = kauri.render(build(), spp=2, resolution=(24, 18), seed=3, threads=2, aovs=False)
+        rgb = out.rgba[:, :, :3]
+        assert np.all(np.isfinite(rgb)), build.__name__
+        assert rgb.mean() > 0.05, build.__name__
+
+
+def test_version_reports_the_build():
+    r = subprocess.run([sys.executable, "-m", "kauri", "--version"], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0
+    assert f"profile-guided: {kauri.build_info['pgo']}" in r.stdout and kauri.build_info["march"] in r.stdout
