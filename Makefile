@@ -1,6 +1,6 @@
 # kauri: the two commands a new user needs are `make demo` and `make test`.
 PYTHON ?= python3
-BUILD_DIR := $(shell $(PYTHON) -c "import sysconfig,sys; print('build/cp%d%d-cp%d%d-%s' % (sys.version_info[0], sys.version_info[1], sys.version_info[0], sys.version_info[1], sysconfig.get_platform().replace('-', '_').replace('.', '_')))")
+BUILD_DIR := $(shell $(PYTHON) scripts/build_dir.py)
 
 .PHONY: build demo test test-cpp test-python bench bench-quick clean
 

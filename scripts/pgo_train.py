@@ -23,10 +23,14 @@ import numpy as np
 
 import kauri
 from kauri import demo
+from kauri.demo import _quad
 
 
-def _quad(a, b, c, d):
-    return np.array([a, b, c, d], dtype=np.float32), np.array([[0, 1, 2, 3]], dtype=np.uint32)
+def _box(half, height, offset=(0.0, 0.0, 0.0)):
+    """An axis-aligned box standing on y = 0 (quads facing out): positions, indices."""
+    V = np.array([[x, y, z] for x in (-half, half) for y in (0, height) for z in (-half, half)], np.float32)
+    F = np.array([[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]], np.uint32)
+    return V + np.asarray(offset, np.float32), F
 
 
 def _checker(n=64, squares=8):
@@ -113,9 +117,7 @@ def lamps() -> kauri.Scene:
             s.add_mesh(P, I, emission=kauri.Emission(color=(1.0, 0.6 + 0.4 * hue, 0.4 + 0.6 * (1 - hue)),
                                                      intensity=30.0), name=f"lamp{i}_{j}")
     box = s.add_group("box")
-    V = np.array([[x, y, z] for x in (-0.3, 0.3) for y in (0, 0.6) for z in (-0.3, 0.3)], np.float32)
-    F = np.array([[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]], np.uint32)
-    s.add_mesh(V, F, material=kauri.Lambert(albedo=(0.7, 0.3, 0.2), name="brick"), name="box_mesh", group=box)
+    s.add_mesh(*_box(0.3, 0.6), material=kauri.Lambert(albedo=(0.7, 0.3, 0.2), name="brick"), name="box_mesh", group=box)
     for k in range(9):
         M = np.eye(4, dtype=np.float32)
         M[0, 3], M[2, 3] = -2 + 2 * (k % 3), -2 + 2 * (k // 3)
@@ -148,10 +150,8 @@ def loft() -> kauri.Scene:
                 albedo=kauri.ImageTexture(_checker(squares=16), name="tiles"), name="tiles"))
         else:
             s.add_mesh(P, I, material=kauri.Lambert(albedo=paint.get(name, (0.75, 0.75, 0.7)), name=name), name=name)
-    V = np.array([[x, y, z] for x in (-0.4, 0.4) for y in (0, 0.9) for z in (-0.4, 0.4)], np.float32)
-    F = np.array([[0, 1, 3, 2], [4, 6, 7, 5], [0, 4, 5, 1], [2, 3, 7, 6], [0, 2, 6, 4], [1, 5, 7, 3]], np.uint32)
     for k, (x, z) in enumerate(((-0.8, -0.6), (0.9, 0.3))):
-        s.add_mesh(V + np.array([x, 0, z], np.float32), F, name=f"crate{k}",
+        s.add_mesh(*_box(0.4, 0.9, (x, 0, z)), name=f"crate{k}",
                    material=kauri.Lambert(albedo=(0.55, 0.4, 0.3), name=f"crate{k}"))
     P, I = _quad((-0.6, 2.49, -0.4), (0.6, 2.49, -0.4), (0.6, 2.49, 0.4), (-0.6, 2.49, 0.4))
     s.add_mesh(P, I, emission=kauri.Emission(color=(1.0, 0.9, 0.8), intensity=12.0), name="skylight")
