@@ -139,7 +139,8 @@ TEST(WavelengthSampling, UnbiasedAndLessColourNoiseThanTheVisibleDensity) {
     sum_output += o;
     sum_visible += v;
   }
-  EXPECT_LT(sum_output, 0.35 * sum_visible);
+  // 0.18 with the illuminant in the density; 0.25 without it ((Σ_c |r̄_c|)^0.6, before).
+  EXPECT_LT(sum_output, 0.2 * sum_visible);
 }
 
 }  // namespace

@@ -37,7 +37,7 @@ void build(ColorSpaceId id, NormalisedIlluminant* illum, std::vector<float>* kno
   to_float(to_rgb, cs->xyz_to_rgb);
   cs->illuminant = &illum->view;
   cs->table = &rgb_to_spectrum_table(id);
-  *knots = output_wavelength_knots(cs->xyz_to_rgb);
+  *knots = output_wavelength_knots(cs->xyz_to_rgb, illum->values);
   cs->wavelengths = {knots->data(), int(knots->size())};
 }
 

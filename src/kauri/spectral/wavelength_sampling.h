@@ -6,13 +6,15 @@
 // estimate is the mismatch between p and r̄_c L. pbrt-v4's sech² "visible" density
 // follows ȳ, so it starves the blue channel (z̄ peaks at 445 nm): for a grey sky its
 // relative variance in blue is 0.34 per 4-wavelength sample. Sampling instead
-//     p(λ) ∝ (Σ_c |r̄_c(λ)| / mean)^0.6 + 0.02,
-// the absolute matching functions of the space the film writes, flattened by the
-// exponent because the 4 wavelengths are stratified (wavelength i at u + i/4), lowers
-// the summed R+G+B relative variance of a sample 2.4-9× for grey, red, green, blue and
-// gold reflectances (grey: 0.36 → 0.044; tests/cpp/test_wavelength_sampling.cpp
-// measures it, docs/spectral.md has the table). The floor keeps p > 0 wherever any
-// CMF is, so every spectrum is estimated without bias.
+//     p(λ) ∝ (Σ_c |r̄_c(λ)| I(λ) / mean)^½ + 0.02,
+// the absolute matching functions of the space the film writes times that space's
+// illuminant I (every RGB emitter and environment texel is lifted against I, so it is a
+// factor of L on every path lit by them), flattened by the square root because the 4
+// wavelengths are stratified (wavelength i at u + i/4), lowers the summed R+G+B relative
+// variance of a sample 3.4-16× for grey, red, green, blue and gold reflectances (grey:
+// 0.36 → 0.028; tests/cpp/test_wavelength_sampling.cpp measures it, docs/spectral.md
+// has the table). The floor keeps p > 0 wherever any CMF is, so every spectrum is
+// estimated without bias.
 //
 // The density is stored as its inverse CDF at uniform steps of u: sampling is one
 // lerp, exactly stratified, and p is constant between knots.
@@ -57,8 +59,9 @@ KAURI_HOST_DEVICE inline SampledWavelengths sample_wavelengths(const WavelengthD
 
 // ---- host (wavelength_sampling.cpp) ----
 
-/// Knots of F⁻¹ for the density above, for the space with matrix `xyz_to_rgb`.
-std::vector<float> output_wavelength_knots(const Float xyz_to_rgb[3][3], int n = 1025);
+/// Knots of F⁻¹ for the density above, for the space with matrix `xyz_to_rgb` and
+/// illuminant `illuminant` (kCieSamples values on the 1 nm CIE grid, any scale).
+std::vector<float> output_wavelength_knots(const Float xyz_to_rgb[3][3], const float* illuminant, int n = 1025);
 
 /// Knots of F⁻¹ for any density given on the 1 nm CIE grid (360…830 nm, 471 values,
 /// each > 0): constant on each 1 nm interval at the mean of its two end values.
