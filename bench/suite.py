@@ -309,6 +309,43 @@ def cpu_model():
     return platform.processor() or platform.machine()
 
 
+def vector_isa(flags_line=None):
+    """The widest x86 vector extension the CPU reports ("AVX-512", "AVX2", "SSE" or, off
+    x86 / without /proc/cpuinfo, the machine name): Dr.Jit's LLVM kernels are as wide as it
+    allows, kauri's scalar code is not, so the speed ratios against the LLVM variants depend
+    on it. `flags_line`: a /proc/cpuinfo "flags" line (tests)."""
+    if flags_line is None:
+        try:
+            with open("/proc/cpuinfo") as f:
+                flags_line = next((line for line in f if line.startswith("flags")), "")
+        except OSError:
+            flags_line = ""
+    flags = set(flags_line.split(":", 1)[-1].split())
+    if "avx512f" in flags:
+        return "AVX-512"
+    if "avx2" in flags:
+        return "AVX2"
+    if "sse2" in flags:
+        return "SSE"
+    return platform.machine()
+
+
+def drjit_llvm_target():
+    """(target CPU, vector lanes) of Dr.Jit's LLVM backend, or None. Read through Dr.Jit's
+    C++ API (`jit_llvm_target_cpu`, `jit_llvm_vector_width` in libdrjit-core), which its
+    Python bindings do not expose; valid once an LLVM variant has run in this process."""
+    try:
+        import ctypes
+        import drjit
+        lib = ctypes.CDLL(os.path.join(os.path.dirname(drjit.__file__), "libdrjit-core.so"))
+        cpu, width = lib._Z19jit_llvm_target_cpuv, lib._Z21jit_llvm_vector_widthv
+        cpu.restype, width.restype = ctypes.c_char_p, ctypes.c_uint32
+        name, lanes = cpu(), int(width())
+        return (name.decode() if name else "?", lanes) if lanes else None
+    except (ImportError, OSError, AttributeError):
+        return None
+
+
 def mem_total_gib():
     try:
         with open("/proc/meminfo") as f:
@@ -331,6 +368,7 @@ def versions():
         import kauri
         b = kauri.build_info
         v["kauri"] = f"{kauri.__version__} ({b['compiler']}, -march={b['march']}, pgo={b['pgo']})"
+        v["kauri_march"] = b["march"]
     except Exception as e:  # noqa: BLE001 - reported, not fatal here
         v["kauri"] = f"import failed: {e}"
     try:
@@ -1203,8 +1241,16 @@ def section_memory(cfg, names, renderers, threads, log):
 def machine_info(threads, llvm):
     v = versions()
     return {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-            "cpu": cpu_model(), "cores": os.cpu_count(), "threads": threads, "memory_gib": round(mem_total_gib(), 1),
+            "cpu": cpu_model(), "vector_isa": vector_isa(), "cores": os.cpu_count(), "threads": threads, "memory_gib": round(mem_total_gib(), 1),
             "os": platform.platform(), "versions": v, "libllvm": llvm, "loadavg_start": loadavg()}
+
+
+def drjit_lanes_md(target):
+    if not target:
+        return "– (no LLVM variant ran)"
+    cpu, lanes = target
+    return (f"target `{cpu}`, {lanes} lanes (Dr.Jit compiles for the widest vectors the CPU has: "
+            f"the LLVM variants' ratios are comparable only between runs with the same width)")
 
 
 def build_report(info, mode, argv, sections_md, thread_check, elapsed, done, load=None):
@@ -1234,7 +1280,10 @@ def build_report(info, mode, argv, sections_md, thread_check, elapsed, done, loa
           "render with Embree's alone on the same recorded rays. Section 4 measures peak resident memory of a "
           "process that renders once, and of one that only loads the renderer and the scene.", "",
           "## Machine", "",
-          f"- CPU: {info['cpu']}, {info['cores']} cores; memory {info['memory_gib']} GiB; {info['os']}",
+          f"- CPU: {info['cpu']}, {info['cores']} cores, widest vectors {info.get('vector_isa', '–')}; "
+          f"memory {info['memory_gib']} GiB; {info['os']}",
+          f"- Dr.Jit's LLVM kernels: {drjit_lanes_md(info.get('drjit_llvm'))}; kauri: "
+          f"`-march={v.get('kauri_march', '–')}`, one path per thread at a time (scalar)",
           f"- Threads for every renderer: {info['threads']} (kauri: `render(threads=N)`; Mitsuba: "
           f"`drjit.set_thread_count(N)`, after which `drjit.thread_count()` = {info.get('drjit_thread_count', '–')}; "
           f"Cycles: `scene.render.threads = N`)",
@@ -1398,6 +1447,9 @@ def _run_sections(args, argv, cfg, mode, out_dir, log, info, names, rnd):
         load["speed"] = meter.stop()
         thread_check.update(thread_usage(results["speed"], cfg.fit_min_spp))
         info["drjit_thread_count"] = rnd.drjit_threads
+        info["drjit_llvm"] = drjit_llvm_target() if any(r.startswith("llvm") for r in renderers) else None
+        if info["drjit_llvm"]:
+            log(f"Dr.Jit LLVM target {info['drjit_llvm'][0]}, {info['drjit_llvm'][1]} lanes")
         over = {r: x for r, x in thread_check.items() if x > 1.15 * args.threads}
         log(f"speed section: other processes used {load['speed']['other_cores']:.2f} cores on average")
         log("CPU/wall per renderer: " + ", ".join(f"{r} {x:.2f}" for r, x in thread_check.items())

@@ -155,3 +155,12 @@ def test_measure_rung_interleaves_renders_and_drops_a_failing_renderer():
 def test_speed_ladders_are_squares_for_mitsubas_stratified_sampler():
     for cfg in (suite.QUICK, suite.FULL):
         assert all(math.isqrt(n) ** 2 == n for n in cfg.ladder), cfg.ladder
+
+
+def test_vector_isa_names_the_widest_extension():
+    assert suite.vector_isa("flags\t\t: fpu sse2 avx avx2 fma avx512f avx512bw") == "AVX-512"
+    assert suite.vector_isa("flags : fpu sse2 avx avx2 fma") == "AVX2"
+    assert suite.vector_isa("flags : fpu sse sse2") == "SSE"
+    assert suite.vector_isa() in {"AVX-512", "AVX2", "SSE"} or suite.vector_isa() == suite.platform.machine()
+    assert "16 lanes" in suite.drjit_lanes_md(("znver5", 16))
+    assert "no LLVM variant" in suite.drjit_lanes_md(None)
