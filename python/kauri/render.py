@@ -96,7 +96,8 @@ def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0
     traces the same paths again on one thread recording every ray query, and replays the
     recorded rays through the accelerator alone (Embree's rtcIntersect1 / rtcOccluded1 and
     the direct tests of a root group's few spheres and disks, ``threads`` threads,
-    best of ``repeats``). Returns the counts and times, plus ``render_rays_per_second``,
+    best of ``repeats``; every query alone, although the render traces each pixel's camera
+    rays as packets of 8). Returns the counts and times, plus ``render_rays_per_second``,
     ``embree_rays_per_second`` and their ratio ``fraction_of_embree`` (1 = the path tracer
     costs nothing beyond traversal). ``hits_match`` checks the replay found the same hits.
     ``aovs`` as in render(): the timed render computes the AOVs unless it is False."""

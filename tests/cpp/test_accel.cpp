@@ -98,6 +98,50 @@ TEST(EmbreeAccel, DirectSpheresAndDisksMatchEmbree) {
   EXPECT_LT(occluded, 27000);
 }
 
+// Packets (a pixel's camera rays): every lane answers exactly as intersect() does for its
+// ray, with the direct shapes and with Embree's own spheres, for full and partial packets,
+// coherent bundles and scattered rays alike.
+TEST(EmbreeAccel, PacketAnswersAsSingleRays) {
+  TestScene sc;
+  for (size_t max_direct : {EmbreeAccel::kMaxDirectShapes, size_t(0)}) {
+    EmbreeAccel accel;
+    accel.build({sc.shapes}, {}, {}, max_direct);
+    std::vector<Ray> rays = test_rays(sc, 6000);
+    // Coherent bundles too: rays from one eye through a small patch, as a pixel's are.
+    PCG32 rng;
+    rng.set_sequence(4, 9);
+    for (int i = 0; i < 3000; ++i) {
+      Point3 eye{0.3f, 2.2f, 4.5f};
+      Point3 target{-1.5f + 3 * Float(i % 60) / 60 + 0.05f * rng.next_float(), 0.8f * rng.next_float(),
+                    -1.5f + 3 * Float(i / 60) / 50};
+      rays.push_back(Ray{eye, normalize(target - eye), kInfinity});
+    }
+    int lanes = 0, hits = 0;
+    for (size_t i = 0; i < rays.size(); i += EmbreeAccel::kPacketSize) {
+      const int n = int(std::min<size_t>(EmbreeAccel::kPacketSize - (i / 8) % 3, rays.size() - i));  // 8, 7, 6
+      HitRecord packet[EmbreeAccel::kPacketSize];
+      bool found[EmbreeAccel::kPacketSize];
+      accel.intersect_packet(&rays[i], n, packet, found);
+      for (int k = 0; k < n; ++k, ++lanes) {
+        HitRecord single;
+        const bool h = accel.intersect(rays[i + size_t(k)], &single);
+        ASSERT_EQ(found[k], h) << "ray " << i + size_t(k);
+        if (!h) continue;
+        ++hits;
+        EXPECT_EQ(packet[k].geom, single.geom);
+        EXPECT_EQ(packet[k].prim, single.prim);
+        EXPECT_EQ(packet[k].inst, single.inst);
+        EXPECT_NEAR(packet[k].t, single.t, 1e-5f * std::max(Float(1), single.t));
+        EXPECT_NEAR(packet[k].u, single.u, 1e-5f);
+        EXPECT_NEAR(packet[k].v, single.v, 1e-5f);
+      }
+      if (n < EmbreeAccel::kPacketSize) i -= size_t(EmbreeAccel::kPacketSize - n);  // no ray left out
+    }
+    EXPECT_EQ(lanes, int(rays.size()));
+    EXPECT_GT(hits, 4000);
+  }
+}
+
 TEST(EmbreeAccel, RayInsideASphereMeetsItOnTheWayOut) {
   TestScene sc;
   EmbreeAccel accel;

@@ -120,4 +120,60 @@ void EmbreeAccel::build(const std::vector<std::vector<ShapeView>>& groups, const
   check(device_, "building the acceleration structure");
 }
 
+void EmbreeAccel::intersect_packet(const Ray* rays, int n, HitRecord* hits, bool* found) const {
+  alignas(32) int valid[kPacketSize];
+  alignas(32) RTCRayHit8 rh;
+  Float tmax[kPacketSize];
+  int direct[kPacketSize];
+  for (int k = 0; k < kPacketSize; ++k) {
+    valid[k] = k < n ? -1 : 0;
+    const Ray& r = rays[k < n ? k : 0];
+    // The direct shapes first, as in intersect(): a hit shortens the ray Embree traverses.
+    tmax[k] = r.tmax;
+    direct[k] = -1;
+    for (size_t i = 0; k < n && i < direct_.size(); ++i) {
+      Float t;
+      if (direct_[i].intersect(r, tmax[k], &t)) {
+        tmax[k] = t;
+        direct[k] = int(i);
+      }
+    }
+    rh.ray.org_x[k] = r.o.x; rh.ray.org_y[k] = r.o.y; rh.ray.org_z[k] = r.o.z;
+    rh.ray.dir_x[k] = r.d.x; rh.ray.dir_y[k] = r.d.y; rh.ray.dir_z[k] = r.d.z;
+    rh.ray.tnear[k] = 0;
+    rh.ray.tfar[k] = tmax[k];
+    rh.ray.time[k] = 0;
+    rh.ray.mask[k] = ~0u;
+    rh.ray.id[k] = unsigned(k);
+    rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+  }
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  rtcIntersect8(valid, root_, &ctx, &rh);
+  for (int k = 0; k < n; ++k) {
+    HitRecord& h = hits[k];
+    if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) {
+      h.t = rh.ray.tfar[k];
+      h.u = rh.hit.u[k];
+      h.v = rh.hit.v[k];
+      h.geom = rh.hit.geomID[k];
+      h.prim = rh.hit.primID[k];
+      h.inst = rh.hit.instID[0][k];
+      found[k] = true;
+    } else if (direct[k] >= 0) {
+      h.t = tmax[k];
+      h.u = h.v = 0;
+      h.geom = direct_[size_t(direct[k])].geom;
+      h.prim = 0;
+      h.inst = ~0u;
+      found[k] = true;
+    } else {
+      found[k] = false;
+    }
+  }
+}
+
 }  // namespace kauri

@@ -82,6 +82,12 @@ class EmbreeAccel {
     h->inst = ~0u;
     return true;
   }
+  /// Closest hits of `n` ≤ kPacketSize rays in one Embree packet (rtcIntersect8), for
+  /// coherent rays such as a pixel's camera rays, which then traverse the BVH together;
+  /// the same answers as intersect() ray by ray (tests/cpp/test_embree_accel.cpp).
+  /// `found[k]`: whether ray k hit; `hits[k]` as intersect() fills it.
+  static constexpr int kPacketSize = 8;
+  void intersect_packet(const Ray* rays, int n, HitRecord* hits, bool* found) const;
   bool occluded(const Ray& r) const {
     for (const DirectShape& s : direct_) {
       Float t;

@@ -65,15 +65,27 @@ KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel&
 
 }  // namespace path_detail
 
+/// Traces one camera path. `primary`: the closest hit of `ray` when the caller has
+/// already found it (a pixel's camera rays traced as one packet), with `primary_found`
+/// saying whether there was one; null: the path traces its first ray itself.
 template <class Accel>
 KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const IntegratorSettings& cfg, Ray ray,
-                                  SampledWavelengths& lambda, Sampler& sampler, PathOutput* out) {
+                                  SampledWavelengths& lambda, Sampler& sampler, PathOutput* out,
+                                  const HitRecord* primary = nullptr, bool primary_found = false) {
   PathState st;
   const Vec3 cam_fwd = s.camera.forward();
   for (;;) {
     HitRecord h;
     ++out->rays;
-    if (!accel.intersect(ray, &h)) {
+    bool found;
+    if (primary) {
+      h = *primary;
+      found = primary_found;
+      primary = nullptr;
+    } else {
+      found = accel.intersect(ray, &h);
+    }
+    if (!found) {
       for (int i = 0; i < s.n_infinite_lights; ++i) {
         int li = s.infinite_lights[i];
         SampledSpectrum Le = infinite_light_Le(s.lights[li], ray.d, lambda);

@@ -127,68 +127,113 @@ void add_beauty(const TileContext& c, PixelAccum& px, Vec2 film_pos, Vec3 rgb, F
   px.weight += 1;
 }
 
+/// Closest hits of a pixel's camera rays: one Embree packet (coherent rays traverse the
+/// BVH together), or ray by ray for other accelerators (the ray recorder).
+template <class Accel>
+void intersect_camera_rays(const Accel& accel, const Ray* r, int n, HitRecord* h, bool* found) {
+  for (int k = 0; k < n; ++k) found[k] = accel.intersect(r[k], &h[k]);
+}
+void intersect_camera_rays(const EmbreeAccel& accel, const Ray* r, int n, HitRecord* h, bool* found) {
+  accel.intersect_packet(r, n, h, found);
+}
+
+/// The camera ray of sample `s` of pixel (x, y): starts `sampler` on that sample and
+/// draws the film position, lens point and wavelengths (the sample's first dimensions).
+Ray camera_sample(const TileContext& c, int x, int y, uint32_t s, Sampler& sampler, Vec2* film_pos,
+                  SampledWavelengths* lambda) {
+  const SceneView& sv = c.scene.view();
+  sampler.start_pixel_sample(x, y, s, c.cfg.seed);
+  // Splatting: uniform in the pixel, the filter weights the splat; filter importance
+  // sampling: ∝ the filter around the centre, weight 1 for this pixel.
+  Vec2 u_film = sampler.get_2d();
+  *film_pos = c.cfg.reconstruction == FilmReconstruction::Splat
+                  ? Vec2{Float(x) + u_film.x, Float(y) + u_film.y}
+                  : Vec2{Float(x) + 0.5f, Float(y) + 0.5f} + c.cfg.filter.sample(u_film);
+  Vec2 u_lens;
+  if (sv.camera.lens_radius > 0) u_lens = sampler.get_2d();
+  else sampler.skip_2d();  // a pinhole needs no lens sample
+  *lambda = sample_wavelengths(sv.wavelengths, sampler.get_1d());
+  return sv.camera.generate_ray(*film_pos, u_lens);
+}
+
+/// One path of sample `s` of pixel (x, y) from its camera ray and first hit, into the film
+/// (beauty) and the pixel's AOV sums.
+template <class Accel>
+void render_path(const TileContext& c, const Accel& accel, int x, int y, uint32_t s, const Ray& ray, Vec2 film_pos,
+                 SampledWavelengths& lambda, Sampler& sampler, const HitRecord& primary, bool primary_found,
+                 PixelAccum& px, PixelAOVAccum* aov, uint64_t* rays) {
+  const SceneView& sv = c.scene.view();
+  PathOutput out;
+  trace_path(sv, accel, c.cfg.integrator, ray, lambda, sampler, &out, &primary, primary_found);
+  *rays += out.rays;
+  const SampledXYZWeights to_xyz(lambda);
+  Vec3 direct = sv.to_rgb(to_xyz(out.L_direct_first));
+  Vec3 indirect_xyz = to_xyz(out.L);
+  Vec3 rgb = direct + clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, c.cfg.integrator.clamp);
+  if (!is_finite(rgb)) {
+    // A NaN/Inf sample is counted and reported, and enters the film as black with
+    // its full weight, so the estimate stays normalised by what was traced.
+    c.nan_samples.fetch_add(1);
+    {
+      std::lock_guard<std::mutex> lock(c.nan_mutex);
+      if (c.nan_pixels.size() < 32) c.nan_pixels.push_back({x, y, s});
+    }
+    add_beauty(c, px, film_pos, Vec3{0, 0, 0}, 0);
+    return;
+  }
+  add_beauty(c, px, film_pos, rgb, out.hit ? 1 : 0);
+  if (!c.cfg.aovs) return;
+  if (out.hit) {
+    aov->normal[0] += double(out.normal.x);
+    aov->normal[1] += double(out.normal.y);
+    aov->normal[2] += double(out.normal.z);
+    if (std::isfinite(out.depth)) {
+      aov->depth += double(out.depth);
+      ++aov->depth_count;
+    }
+  }
+  if (out.albedo_set) {
+    // Albedo: the colour of the reflectance under the working space's white.
+    SampledSpectrum white = sv.illuminant.sample(lambda);
+    Vec3 num = to_xyz(out.albedo * white), den = to_xyz(white);
+    if (is_finite(num)) {
+      for (int k = 0; k < 3; ++k) {
+        aov->albedo_xyz[k] += double(num[k]);
+        aov->white_xyz[k] += double(den[k]);
+      }
+    }
+  }
+}
+
 template <class Accel>
 void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y, uint32_t s0, uint32_t s1,
                           uint64_t* rays) {
-  const SceneView& sv = c.scene.view();
   PixelAccum& px = c.film.at(x, y);
   // Data AOV sums: allocated only when the render gathers them (cfg.aovs).
   PixelAOVAccum* aov = c.cfg.aovs ? c.aovs + (size_t(y) * size_t(c.film.width) + size_t(x)) : nullptr;
-  const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
-  Sampler sampler;
-  sampler.type = c.cfg.sampler;
-  sampler.set_samples_per_pixel(uint32_t(c.cfg.spp));
-  for (uint32_t s = s0; s < s1; ++s) {
-    sampler.start_pixel_sample(x, y, s, c.cfg.seed);
-    // Splatting: uniform in the pixel, the filter weights the splat; filter importance
-    // sampling: ∝ the filter around the centre, weight 1 for this pixel.
-    Vec2 u_film = sampler.get_2d();
-    Vec2 film_pos = splat ? Vec2{Float(x) + u_film.x, Float(y) + u_film.y}
-                          : Vec2{Float(x) + 0.5f, Float(y) + 0.5f} + c.cfg.filter.sample(u_film);
-    Vec2 u_lens;
-    if (sv.camera.lens_radius > 0) u_lens = sampler.get_2d();
-    else sampler.skip_2d();  // a pinhole needs no lens sample
-    SampledWavelengths lambda = sample_wavelengths(sv.wavelengths, sampler.get_1d());
-    Ray ray = sv.camera.generate_ray(film_pos, u_lens);
-    PathOutput out;
-    trace_path(sv, accel, c.cfg.integrator, ray, lambda, sampler, &out);
-    *rays += out.rays;
-    const SampledXYZWeights to_xyz(lambda);
-    Vec3 direct = sv.to_rgb(to_xyz(out.L_direct_first));
-    Vec3 indirect_xyz = to_xyz(out.L);
-    Vec3 rgb = direct + clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, c.cfg.integrator.clamp);
-    if (!is_finite(rgb)) {
-      // A NaN/Inf sample is counted and reported, and enters the film as black with
-      // its full weight, so the estimate stays normalised by what was traced.
-      c.nan_samples.fetch_add(1);
-      {
-        std::lock_guard<std::mutex> lock(c.nan_mutex);
-        if (c.nan_pixels.size() < 32) c.nan_pixels.push_back({x, y, s});
-      }
-      add_beauty(c, px, film_pos, Vec3{0, 0, 0}, 0);
-      continue;
+  // The pixel's samples go in groups of a packet: their camera rays first, traced together,
+  // then each path from its first hit. Every sample keeps its own sampler, so each path
+  // draws the dimensions it would draw alone and the image is as with one ray at a time.
+  constexpr int kGroup = EmbreeAccel::kPacketSize;
+  Sampler samplers[kGroup];
+  samplers[0].type = c.cfg.sampler;
+  samplers[0].set_samples_per_pixel(uint32_t(c.cfg.spp));
+  Ray camera_rays[kGroup];
+  Vec2 film_pos[kGroup];
+  SampledWavelengths lambdas[kGroup];
+  HitRecord primary[kGroup];
+  bool primary_found[kGroup];
+  for (uint32_t g0 = s0; g0 < s1; g0 += kGroup) {
+    const int n = int(std::min<uint32_t>(kGroup, s1 - g0));
+    for (int k = 0; k < n; ++k) {
+      // Copies of the first sampler share its per-pixel state (ZSobol's block and seed).
+      if (k > 0) samplers[k] = samplers[0];
+      camera_rays[k] = camera_sample(c, x, y, g0 + uint32_t(k), samplers[k], &film_pos[k], &lambdas[k]);
     }
-    add_beauty(c, px, film_pos, rgb, out.hit ? 1 : 0);
-    if (!c.cfg.aovs) continue;
-    if (out.hit) {
-      aov->normal[0] += double(out.normal.x);
-      aov->normal[1] += double(out.normal.y);
-      aov->normal[2] += double(out.normal.z);
-      if (std::isfinite(out.depth)) {
-        aov->depth += double(out.depth);
-        ++aov->depth_count;
-      }
-    }
-    if (out.albedo_set) {
-      // Albedo: the colour of the reflectance under the working space's white.
-      SampledSpectrum white = sv.illuminant.sample(lambda);
-      Vec3 num = to_xyz(out.albedo * white), den = to_xyz(white);
-      if (is_finite(num)) {
-        for (int k = 0; k < 3; ++k) {
-          aov->albedo_xyz[k] += double(num[k]);
-          aov->white_xyz[k] += double(den[k]);
-        }
-      }
+    intersect_camera_rays(accel, camera_rays, n, primary, primary_found);
+    for (int k = 0; k < n; ++k) {
+      render_path(c, accel, x, y, g0 + uint32_t(k), camera_rays[k], film_pos[k], lambdas[k], samplers[k],
+                  primary[k], primary_found[k], px, aov, rays);
     }
   }
 }
