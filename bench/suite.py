@@ -1241,7 +1241,8 @@ def section_memory(cfg, names, renderers, threads, log):
 def machine_info(threads, llvm):
     v = versions()
     return {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-            "cpu": cpu_model(), "vector_isa": vector_isa(), "cores": os.cpu_count(), "threads": threads, "memory_gib": round(mem_total_gib(), 1),
+            "cpu": cpu_model(), "vector_isa": vector_isa(), "cores": os.cpu_count(), "threads": threads,
+            "memory_gib": round(mem_total_gib(), 1),
             "os": platform.platform(), "versions": v, "libllvm": llvm, "loadavg_start": loadavg()}
 
 

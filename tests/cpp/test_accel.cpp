@@ -116,16 +116,16 @@ TEST(EmbreeAccel, PacketAnswersAsSingleRays) {
                     -1.5f + 3 * Float(i / 60) / 50};
       rays.push_back(Ray{eye, normalize(target - eye), kInfinity});
     }
-    int lanes = 0, hits = 0;
-    for (size_t i = 0; i < rays.size(); i += EmbreeAccel::kPacketSize) {
-      const int n = int(std::min<size_t>(EmbreeAccel::kPacketSize - (i / 8) % 3, rays.size() - i));  // 8, 7, 6
+    int lanes = 0, hits = 0, packets = 0;
+    for (size_t i = 0, n = 0; i < rays.size(); i += n, ++packets) {
+      n = std::min<size_t>(EmbreeAccel::kPacketSize - packets % 3, rays.size() - i);  // full and partial packets
       HitRecord packet[EmbreeAccel::kPacketSize];
       bool found[EmbreeAccel::kPacketSize];
-      accel.intersect_packet(&rays[i], n, packet, found);
-      for (int k = 0; k < n; ++k, ++lanes) {
+      accel.intersect_packet(&rays[i], int(n), packet, found);
+      for (size_t k = 0; k < n; ++k, ++lanes) {
         HitRecord single;
-        const bool h = accel.intersect(rays[i + size_t(k)], &single);
-        ASSERT_EQ(found[k], h) << "ray " << i + size_t(k);
+        const bool h = accel.intersect(rays[i + k], &single);
+        ASSERT_EQ(found[k], h) << "ray " << i + k;
         if (!h) continue;
         ++hits;
         EXPECT_EQ(packet[k].geom, single.geom);
@@ -135,7 +135,6 @@ TEST(EmbreeAccel, PacketAnswersAsSingleRays) {
         EXPECT_NEAR(packet[k].u, single.u, 1e-5f);
         EXPECT_NEAR(packet[k].v, single.v, 1e-5f);
       }
-      if (n < EmbreeAccel::kPacketSize) i -= size_t(EmbreeAccel::kPacketSize - n);  // no ray left out
     }
     EXPECT_EQ(lanes, int(rays.size()));
     EXPECT_GT(hits, 4000);

@@ -130,14 +130,7 @@ void EmbreeAccel::intersect_packet(const Ray* rays, int n, HitRecord* hits, bool
     const Ray& r = rays[k < n ? k : 0];
     // The direct shapes first, as in intersect(): a hit shortens the ray Embree traverses.
     tmax[k] = r.tmax;
-    direct[k] = -1;
-    for (size_t i = 0; k < n && i < direct_.size(); ++i) {
-      Float t;
-      if (direct_[i].intersect(r, tmax[k], &t)) {
-        tmax[k] = t;
-        direct[k] = int(i);
-      }
-    }
+    direct[k] = k < n ? nearest_direct(r, &tmax[k]) : -1;
     rh.ray.org_x[k] = r.o.x; rh.ray.org_y[k] = r.o.y; rh.ray.org_z[k] = r.o.z;
     rh.ray.dir_x[k] = r.d.x; rh.ray.dir_y[k] = r.d.y; rh.ray.dir_z[k] = r.d.z;
     rh.ray.tnear[k] = 0;
@@ -154,25 +147,14 @@ void EmbreeAccel::intersect_packet(const Ray* rays, int n, HitRecord* hits, bool
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   rtcIntersect8(valid, root_, &ctx, &rh);
   for (int k = 0; k < n; ++k) {
-    HitRecord& h = hits[k];
-    if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) {
-      h.t = rh.ray.tfar[k];
-      h.u = rh.hit.u[k];
-      h.v = rh.hit.v[k];
-      h.geom = rh.hit.geomID[k];
-      h.prim = rh.hit.primID[k];
-      h.inst = rh.hit.instID[0][k];
-      found[k] = true;
-    } else if (direct[k] >= 0) {
-      h.t = tmax[k];
-      h.u = h.v = 0;
-      h.geom = direct_[size_t(direct[k])].geom;
-      h.prim = 0;
-      h.inst = ~0u;
-      found[k] = true;
-    } else {
+    found[k] = true;
+    if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID)
+      hits[k] = embree_hit(rh.ray.tfar[k], rh.hit.u[k], rh.hit.v[k], rh.hit.geomID[k], rh.hit.primID[k],
+                           rh.hit.instID[0][k]);
+    else if (direct[k] >= 0)
+      hits[k] = direct_hit(direct[k], tmax[k]);
+    else
       found[k] = false;
-    }
   }
 }
 

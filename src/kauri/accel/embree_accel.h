@@ -43,14 +43,7 @@ class EmbreeAccel {
   bool intersect(const Ray& r, HitRecord* h) const {
     // The direct shapes first: a hit shortens the ray Embree traverses.
     Float tmax = r.tmax;
-    int direct = -1;
-    for (size_t i = 0; i < direct_.size(); ++i) {
-      Float t;
-      if (direct_[i].intersect(r, tmax, &t)) {
-        tmax = t;
-        direct = int(i);
-      }
-    }
+    const int direct = nearest_direct(r, &tmax);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -66,27 +59,19 @@ class EmbreeAccel {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(root_, &ctx, &rh);
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-      h->t = rh.ray.tfar;
-      h->u = rh.hit.u;
-      h->v = rh.hit.v;
-      h->geom = rh.hit.geomID;
-      h->prim = rh.hit.primID;
-      h->inst = rh.hit.instID[0];
+      *h = embree_hit(rh.ray.tfar, rh.hit.u, rh.hit.v, rh.hit.geomID, rh.hit.primID, rh.hit.instID[0]);
       return true;
     }
     if (direct < 0) return false;
-    h->t = tmax;
-    h->u = h->v = 0;
-    h->geom = direct_[size_t(direct)].geom;
-    h->prim = 0;
-    h->inst = ~0u;
+    *h = direct_hit(direct, tmax);
     return true;
   }
+  /// Rays per packet of intersect_packet().
+  static constexpr int kPacketSize = 8;
   /// Closest hits of `n` ≤ kPacketSize rays in one Embree packet (rtcIntersect8), for
   /// coherent rays such as a pixel's camera rays, which then traverse the BVH together;
-  /// the same answers as intersect() ray by ray (tests/cpp/test_embree_accel.cpp).
+  /// the same answers as intersect() ray by ray (tests/cpp/test_accel.cpp).
   /// `found[k]`: whether ray k hit; `hits[k]` as intersect() fills it.
-  static constexpr int kPacketSize = 8;
   void intersect_packet(const Ray* rays, int n, HitRecord* hits, bool* found) const;
   bool occluded(const Ray& r) const {
     for (const DirectShape& s : direct_) {
@@ -113,6 +98,31 @@ class EmbreeAccel {
 
  private:
   RTCScene build_group(const std::vector<ShapeView>& shapes, bool keep_analytic);
+  /// The nearest direct shape `r` meets before `*tmax` (which it shortens), or −1.
+  int nearest_direct(const Ray& r, Float* tmax) const {
+    int direct = -1;
+    for (size_t i = 0; i < direct_.size(); ++i) {
+      Float t;
+      if (direct_[i].intersect(r, *tmax, &t)) {
+        *tmax = t;
+        direct = int(i);
+      }
+    }
+    return direct;
+  }
+  static HitRecord embree_hit(Float t, Float u, Float v, unsigned geom, unsigned prim, unsigned inst) {
+    HitRecord h;
+    h.t = t;
+    h.u = u;
+    h.v = v;
+    h.geom = geom;
+    h.prim = prim;
+    h.inst = inst;
+    return h;
+  }
+  HitRecord direct_hit(int direct, Float t) const {
+    return embree_hit(t, 0, 0, direct_[size_t(direct)].geom, 0, ~0u);
+  }
   RTCDevice device_ = nullptr;
   RTCScene root_ = nullptr;
   std::vector<RTCScene> prototypes_;
