@@ -74,10 +74,10 @@ def mirror_box(roughness):
 
 @pytest.mark.parametrize("roughness", [0.0, 0.2])
 def test_russian_roulette_waits_for_diffuse_bounces(roughness):
-    # Russian roulette starts after rr_min_depth (5) diffuse bounces: a path between metal
+    # Russian roulette starts after rr_min_depth (4) diffuse bounces: a path between metal
     # walls (throughput ~0.9 per bounce) is never cut short, every camera sample makes
     # max_depth + 1 closest-hit queries, plus one shadow ray per rough (non-delta) vertex.
-    # Counting every bounce, roulette would end about a third of them after bounce 5.
+    # Counting every bounce, roulette would end some of them after bounce 4.
     depth = 12
     out = kauri.render(mirror_box(roughness), spp=4, resolution=(8, 8), seed=1, progress=False, aovs=False,
                        max_depth=depth, max_glossy=64)
@@ -88,3 +88,30 @@ def test_russian_roulette_waits_for_diffuse_bounces(roughness):
         # Shadow rays are traced where the light faces the vertex with a nonzero BSDF: at
         # most one per vertex below max_depth, and most of them in a closed box.
         assert closest + 0.5 * out.stats["samples"] * depth <= out.stats["rays"] <= closest + out.stats["samples"] * depth
+
+
+def test_russian_roulette_is_unbiased_in_an_emissive_box():
+    # The camera inside a closed cube whose walls are grey Lambert (rho = 0.8) and emit
+    # Le = 1 (two-sided, white): every point sees only the walls, so the radiance is
+    # L = Le (1 + rho + rho^2 + ...) = Le / (1 - rho) = 5 everywhere. A third of it comes
+    # from paths longer than 4 diffuse bounces, where Russian roulette decides: a survival
+    # probability not undone by its weight would show here. Bounce budgets of 64 leave
+    # rho^65 ~ 5e-7 of the series out.
+    rho = 0.8
+    s = kauri.Scene(color_space="acescg")
+    wall = kauri.Lambert(albedo=(rho, rho, rho))
+    quads = [[(-1, -1, 1), (1, -1, 1), (1, -1, -1), (-1, -1, -1)], [(-1, 1, -1), (1, 1, -1), (1, 1, 1), (-1, 1, 1)],
+             [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1)], [(1, -1, 1), (-1, -1, 1), (-1, 1, 1), (1, 1, 1)],
+             [(-1, -1, 1), (-1, -1, -1), (-1, 1, -1), (-1, 1, 1)], [(1, -1, -1), (1, -1, 1), (1, 1, 1), (1, 1, -1)]]
+    for k, q in enumerate(quads):
+        s.add_mesh(np.array(q, np.float32), np.array([[0, 1, 2, 3]]), material=wall,
+                   emission=kauri.Emission(two_sided=True), name=f"wall{k}")
+    s.set_camera(eye=(0, 0, 0.5), target=(0, 0, -1), fov=60)
+    out = kauri.render(s, spp=64, resolution=(16, 16), seed=3, progress=False, aovs=False,
+                       max_depth=64, max_diffuse=64)
+    # One render's mean over its pixels scatters by ~0.3% (six seeds); a roulette that
+    # dropped its 1/p weight would lose a sizeable part of the third past bounce 4.
+    mean = out.rgba[:, :, :3].reshape(-1, 3).mean(axis=0)
+    np.testing.assert_allclose(mean, 1 / (1 - rho), rtol=0.01)
+    # And the paths really are long: well over the 4 bounces before roulette, on average.
+    assert out.stats["rays"] / out.stats["samples"] > 2 * 4

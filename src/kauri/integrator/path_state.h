@@ -17,7 +17,7 @@ struct IntegratorSettings {
   int max_diffuse = 6;         // diffuse reflection/transmission events
   int max_glossy = 8;          // glossy and specular reflection events
   int max_transmission = 12;   // refraction events
-  int rr_min_depth = 5;        // Russian roulette starts after this many diffuse bounces
+  int rr_min_depth = 4;        // Russian roulette starts after this many diffuse bounces
   Float clamp = 0;             // per-sample luminance clamp for indirect light; 0 = off
   bool albedo_aov = true;      // evaluate the first hit's directional albedo (albedo AOV)
   bool light_tree = true;      // NEE picks finite lights by the light tree (else ∝ power)

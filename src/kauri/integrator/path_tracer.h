@@ -63,6 +63,18 @@ KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel&
   return f * ls.L * (w / p_l);
 }
 
+/// Russian roulette's survival probability for a path of throughput β (max over the
+/// wavelengths, refraction's scaling removed): min(1, β^⅓). Survival in proportion to β
+/// (pbrt, Mitsuba) makes every survivor carry a throughput of ~1, the variance of a
+/// dozen killed paths each; the cube root keeps more of the dim paths, at weights below
+/// 1. Measured against min(1, β) after 5 diffuse bounces (bench scenes, 64×64, 64 spp,
+/// 10 renders, relMSE × CPU time): with β^⅓ after 4, Cornell box −8%, textured −7%,
+/// displaced −3%, glossy, hangar and environment ±0.5%; min(1, β) after 4 was +6% on the
+/// Cornell box, β^½ after 4 −6%, β^¼ after 4 as β^⅓.
+KAURI_HOST_DEVICE inline Float rr_survival(Float beta_max) {
+  return beta_max >= 1 ? Float(1) : std::cbrt(fmax_(beta_max, Float(0)));
+}
+
 }  // namespace path_detail
 
 /// Traces one camera path. `primary`: the closest hit of `ray` when the caller has
@@ -152,9 +164,9 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     // their throughput cost the glossy bench scene 18% more variance for 3.5% fewer rays
     // (the bounce budgets still bound them).
     if (st.diffuse_depth >= cfg.rr_min_depth) {
-      Float q = fmax_(Float(0), 1 - (st.beta * st.eta_scale).max_value());
-      if (u_lobe_rr.y < q) break;
-      st.beta *= 1 / (1 - q);
+      Float p = path_detail::rr_survival((st.beta * st.eta_scale).max_value());
+      if (!(u_lobe_rr.y < p)) break;
+      st.beta *= 1 / p;
     }
     if (!st.beta.is_finite()) break;
     ray = spawn_ray(hit.p, hit.ng, bs.wi);
