@@ -43,13 +43,16 @@ KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const Inte
 template <class Accel>
 KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel& accel, const IntegratorSettings& cfg,
                                                 const SurfaceHit& hit, const BSDF& bsdf, Vec3 wo,
-                                                const SampledWavelengths& lambda, Vec2 u, uint32_t* rays) {
+                                                const SampledWavelengths& lambda, Vec2 u, EmissionCache* emission,
+                                                uint32_t* rays) {
   if (s.n_lights == 0) return SampledSpectrum(0);
   Float pmf;
   int li = s.select_light(u.x, hit.p, cfg.light_tree, &pmf, &u.x);
   if (li < 0 || !(pmf > 0)) return SampledSpectrum(0);
   const Light& light = s.lights[li];
-  LightSample ls = sample_light(light, hit.p, u, lambda, kNextEventDensity);
+  // Material lights' radiance comes from their EDFs: their Le (a power estimate) is not
+  // evaluated.
+  LightSample ls = sample_light(light, hit.p, u, lambda, kNextEventDensity, light.material >= 0 ? nullptr : emission);
   if (light.material >= 0 && ls.pdf > 0) ls.L = material_emission(s, light.material, ls.n_light, -ls.wi, lambda);
   if (!(ls.pdf > 0) || ls.L.is_black()) return SampledSpectrum(0);
   Float bsdf_pdf;
@@ -85,6 +88,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
                                   SampledWavelengths& lambda, Sampler& sampler, PathOutput* out,
                                   const HitRecord* primary = nullptr, bool primary_found = false) {
   PathState st;
+  EmissionCache emission;
   const Vec3 cam_fwd = s.camera.forward();
   for (;;) {
     HitRecord h;
@@ -119,7 +123,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
       // Emissive materials evaluate their EDFs in the shading frame; NEE uses the
       // geometric frame (isotropic EDFs and lobe albedos agree up to the normal).
       SampledSpectrum Le = l.material >= 0 ? path_detail::material_emission(s, l.material, hit.ng, wo, lambda)
-                                           : area_light_L(l, hit.ng, wo, lambda);
+                                           : area_light_L(l, hit.ng, wo, lambda, &emission);
       if (!Le.is_black()) {
         Float w = path_detail::emitter_mis_weight(s, cfg, st, hit.light, ray.d, hit.p, hit.ng);
         out->add(st.beta * Le * w, st, ContributionKind::Emission);
@@ -141,7 +145,8 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     // skipped, not computed, so the layout never depends on the material.
     if (bsdf.has_non_specular()) {
       Vec2 u_light = sampler.get_2d();
-      SampledSpectrum Ld = path_detail::sample_direct(s, accel, cfg, hit, bsdf, wo, lambda, u_light, &out->rays);
+      SampledSpectrum Ld = path_detail::sample_direct(s, accel, cfg, hit, bsdf, wo, lambda, u_light, &emission,
+                                                    &out->rays);
       out->add(st.beta * Ld, st, ContributionKind::DirectLight);
     } else {
       sampler.skip_2d();

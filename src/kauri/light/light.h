@@ -45,6 +45,7 @@ struct Light {
   bool two_sided = false;
   int material = -1;            // area lights of emissive materials: radiance comes from the material's EDFs
   Spectrum Le;                  // see the conventions above (for material lights: an estimate, for power)
+  int emission_id = -1;         // lights with equal Le share an id (EmissionCache); -1: none
   Point3 p0, p1, p2;            // triangle vertices; p0 = position/centre otherwise
   Normal3 n{0, 0, 1};           // triangle/disk normal, spot/distant direction (emission direction)
   Float radius = 0;             // sphere/disk radius
@@ -136,10 +137,38 @@ KAURI_HOST_DEVICE inline SampledSpectrum infinite_light_Le(const Light& l, Vec3 
   }
 }
 
-/// Radiance leaving an area light at point with normal `n` towards `w`.
-KAURI_HOST_DEVICE inline SampledSpectrum area_light_L(const Light& l, Normal3 n, Vec3 w, const SampledWavelengths& lambda) {
+/// A path's light spectrum at its wavelengths, the last one evaluated kept for the next
+/// evaluation of the same spectrum: a path's wavelengths never change, and most scenes'
+/// lights share a few emission colours (each evaluation of an RGB light is a sigmoid and an
+/// illuminant lookup at 4 wavelengths). Cornell box: 2.5% fewer instructions per render;
+/// hangar (three colours side by side, short paths) unchanged, and a 4-entry cache by
+/// emission_id did not change that (0.1% more instructions on both).
+struct EmissionCache {
+  int id = -1;  // Light::emission_id of `Le`
+  SampledSpectrum Le;
+
+  /// l.Le at `lambda`, from the cache when the last light evaluated had the same Le.
+  KAURI_HOST_DEVICE const SampledSpectrum& emission(const Light& l, const SampledWavelengths& lambda) {
+    if (l.emission_id < 0 || l.emission_id != id) {
+      Le = l.Le.sample(lambda);
+      id = l.emission_id;
+    }
+    return Le;
+  }
+};
+
+/// l.Le at `lambda`, through the path's cache when there is one.
+KAURI_HOST_DEVICE inline SampledSpectrum light_emission(const Light& l, const SampledWavelengths& lambda,
+                                                        EmissionCache* cache) {
+  return cache ? cache->emission(l, lambda) : l.Le.sample(lambda);
+}
+
+/// Radiance leaving an area light at a point with normal `n` towards `w` (`cache`: the
+/// path's EmissionCache, or null).
+KAURI_HOST_DEVICE inline SampledSpectrum area_light_L(const Light& l, Normal3 n, Vec3 w, const SampledWavelengths& lambda,
+                                                      EmissionCache* cache = nullptr) {
   if (!l.two_sided && dot(n, w) <= 0) return SampledSpectrum(0);
-  return l.Le.sample(lambda);
+  return light_emission(l, lambda, cache);
 }
 
 /// Converts an area density at a light point to solid angle from `p`.
@@ -150,8 +179,10 @@ KAURI_HOST_DEVICE inline Float area_to_solid_angle(Float pdf_area, Point3 p, Poi
   return c > 0 ? pdf_area * d2 / c : 0;
 }
 
+/// `cache`: the path's EmissionCache (null: Le evaluated afresh).
 KAURI_HOST_DEVICE LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda,
-                                           LightDensity density = LightDensity::Complete);
+                                           LightDensity density = LightDensity::Complete,
+                                           EmissionCache* cache = nullptr);
 KAURI_HOST_DEVICE Float light_pdf(const Light& l, Point3 p, Vec3 wi, Point3 p_light, Normal3 n_light,
                                   LightDensity density = LightDensity::Complete);
 /// Whether NEE with `density` can sample `l` at all (light selection gives it no share otherwise).

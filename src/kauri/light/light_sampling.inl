@@ -12,7 +12,8 @@ KAURI_HOST_DEVICE inline Float sphere_one_minus_cos_max(Float r2, Float d2) {
   return sin2_max / (1 + safe_sqrt(1 - sin2_max));
 }
 
-KAURI_HOST_DEVICE inline LightSample sample_sphere(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda) {
+KAURI_HOST_DEVICE inline LightSample sample_sphere(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda,
+                                                   EmissionCache* cache) {
   LightSample s;
   Vec3 to_c = l.p0 - p;
   Float d2 = length_squared(to_c);
@@ -47,11 +48,12 @@ KAURI_HOST_DEVICE inline LightSample sample_sphere(const Light& l, Point3 p, Vec
     s.n_light = normalize(s.p_light - l.p0);
     s.pdf = 1 / (2 * kPi * one_minus_cos_max);
   }
-  s.L = area_light_L(l, s.n_light, -s.wi, lambda);
+  s.L = area_light_L(l, s.n_light, -s.wi, lambda, cache);
   return s;
 }
 
-KAURI_HOST_DEVICE inline LightSample sample_area(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda) {
+KAURI_HOST_DEVICE inline LightSample sample_area(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda,
+                                                 EmissionCache* cache) {
   LightSample s;
   if (l.type == LightType::Triangle) {
     Vec2 b = sample_uniform_triangle(u);
@@ -65,7 +67,7 @@ KAURI_HOST_DEVICE inline LightSample sample_area(const Light& l, Point3 p, Vec2 
   if (length_squared(d) == 0) return s;
   s.wi = normalize(d);
   s.pdf = area_to_solid_angle(1 / l.area, p, s.p_light, l.n);
-  s.L = area_light_L(l, s.n_light, -s.wi, lambda);
+  s.L = area_light_L(l, s.n_light, -s.wi, lambda, cache);
   return s;
 }
 
@@ -93,7 +95,7 @@ KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u
 }  // namespace light_detail
 
 KAURI_HOST_DEVICE inline LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda,
-                                                  LightDensity density) {
+                                                  LightDensity density, EmissionCache* cache) {
   LightSample s;
   switch (l.type) {
     case LightType::Point:
@@ -112,7 +114,7 @@ KAURI_HOST_DEVICE inline LightSample sample_light(const Light& l, Point3 p, Vec2
         Float t = clamp((c - l.cos_outer) / fmax_(l.cos_inner - l.cos_outer, 1e-6f), 0, 1);
         falloff = t * t * (3 - 2 * t);
       }
-      s.L = l.Le.sample(lambda) * (falloff / d2);
+      s.L = light_emission(l, lambda, cache) * (falloff / d2);
       return s;
     }
     case LightType::Distant: {
@@ -121,20 +123,20 @@ KAURI_HOST_DEVICE inline LightSample sample_light(const Light& l, Point3 p, Vec2
         s.wi = -l.n;
         s.pdf = 1;
         s.delta = true;
-        s.L = l.Le.sample(lambda);
+        s.L = light_emission(l, lambda, cache);
       } else {
         s.wi = l.frame.to_world(sample_uniform_cone(u, l.cos_max));
         s.pdf = uniform_cone_pdf(l.cos_max);
         // Inside the cone by construction: re-testing dot(wi, −n) >= cos_max in float
         // rejects a good part of a small cone's edge (3% of a 0.1° sun).
-        s.L = l.Le.sample(lambda) / (kPi * (1 - l.cos_max) * (1 + l.cos_max));
+        s.L = light_emission(l, lambda, cache) / (kPi * (1 - l.cos_max) * (1 + l.cos_max));
       }
       s.p_light = p + s.wi * (2 * l.scene_radius + distance(p, l.scene_center));
       return s;
     }
     case LightType::Triangle:
-    case LightType::Disk: return light_detail::sample_area(l, p, u, lambda);
-    case LightType::Sphere: return light_detail::sample_sphere(l, p, u, lambda);
+    case LightType::Disk: return light_detail::sample_area(l, p, u, lambda, cache);
+    case LightType::Sphere: return light_detail::sample_sphere(l, p, u, lambda, cache);
     case LightType::EnvConstant:
     case LightType::EnvMap: return light_detail::sample_env(l, p, u, lambda, density);
   }

@@ -26,6 +26,50 @@ Spectrum emission_of(const EmissionDesc& e, const RGBColorSpace& cs) {
   return s;
 }
 
+bool same_dense(const DenselySampled& a, const DenselySampled& b) {
+  return a.values == b.values && a.lambda_min == b.lambda_min && a.step == b.step && a.count == b.count;
+}
+
+/// Whether two spectra are the same function (field by field: equal fields, equal values;
+/// unequal fields may still be one spectrum, which only costs EmissionCache a hit).
+bool same_spectrum(const Spectrum& a, const Spectrum& b) {
+  if (a.type != b.type) return false;
+  switch (a.type) {
+    case SpectrumType::Constant: return a.constant == b.constant;
+    case SpectrumType::DenselySampled: return same_dense(a.dense, b.dense);
+    case SpectrumType::RGBAlbedo:
+    case SpectrumType::RGBUnbounded:
+    case SpectrumType::RGBIlluminant:
+      return a.rgb.poly.c0 == b.rgb.poly.c0 && a.rgb.poly.c1 == b.rgb.poly.c1 && a.rgb.poly.c2 == b.rgb.poly.c2 &&
+             a.rgb.scale == b.rgb.scale && (a.type != SpectrumType::RGBIlluminant || same_dense(a.rgb.illuminant, b.rgb.illuminant));
+    case SpectrumType::Blackbody:
+      return a.blackbody.temperature == b.blackbody.temperature && a.blackbody.scale == b.blackbody.scale;
+  }
+  return false;
+}
+
+/// Gives lights with the same emission spectrum the same Light::emission_id (the
+/// path's EmissionCache then evaluates it once); material lights and environment
+/// images, whose radiance is not `Le`, get none. The search for an equal spectrum stops
+/// at 256 distinct ones (beyond them each light gets an id of its own): the compile stays
+/// linear in the number of lights, and a path meets few colours in a row anyway.
+void assign_emission_ids(std::vector<Light>& lights) {
+  constexpr size_t kMaxSearched = 256;
+  std::vector<const Spectrum*> distinct;
+  int next_id = 0;
+  for (Light& l : lights) {
+    l.emission_id = -1;
+    if (l.material >= 0 || l.type == LightType::EnvMap) continue;
+    size_t k = 0;
+    while (k < distinct.size() && !same_spectrum(*distinct[k], l.Le)) ++k;
+    if (k < distinct.size()) {
+      l.emission_id = int(k);
+      continue;
+    }
+    if (distinct.size() < kMaxSearched) distinct.push_back(&l.Le);
+    l.emission_id = next_id++;
+  }
+}
 
 }  // namespace
 
@@ -416,6 +460,7 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   if (!(radius > 0)) radius = 1;
 
   c.build_lights(*this, cs);
+  assign_emission_ids(c.lights_);
   std::vector<Float> power(c.lights_.size());
   for (size_t i = 0; i < c.lights_.size(); ++i) {
     Light& l = c.lights_[i];
