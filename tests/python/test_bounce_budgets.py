@@ -58,14 +58,17 @@ def test_diffuse_budget_zero_keeps_the_furnace_albedo(furnace_scene):
         np.testing.assert_allclose(interior_mean(out), 0.5, rtol=0.01)
 
 
+# The six faces of the cube [-1, 1]^3, as quads.
+CUBE_QUADS = [[(-1, -1, 1), (1, -1, 1), (1, -1, -1), (-1, -1, -1)], [(-1, 1, -1), (1, 1, -1), (1, 1, 1), (-1, 1, 1)],
+              [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1)], [(1, -1, 1), (-1, -1, 1), (-1, 1, 1), (1, 1, 1)],
+              [(-1, -1, 1), (-1, -1, -1), (-1, 1, -1), (-1, 1, 1)], [(1, -1, -1), (1, -1, 1), (1, 1, 1), (1, 1, -1)]]
+
+
 def mirror_box(roughness):
     """A closed cube of aluminium, the camera inside: no ray ever leaves, no surface is diffuse."""
     s = kauri.Scene(color_space="srgb")
-    quads = [[(-1, -1, 1), (1, -1, 1), (1, -1, -1), (-1, -1, -1)], [(-1, 1, -1), (1, 1, -1), (1, 1, 1), (-1, 1, 1)],
-             [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1)], [(1, -1, 1), (-1, -1, 1), (-1, 1, 1), (1, 1, 1)],
-             [(-1, -1, 1), (-1, -1, -1), (-1, 1, -1), (-1, 1, 1)], [(1, -1, -1), (1, -1, 1), (1, 1, 1), (1, 1, -1)]]
     metal = kauri.Conductor(metal="Al", roughness=roughness)
-    for k, q in enumerate(quads):
+    for k, q in enumerate(CUBE_QUADS):
         s.add_mesh(np.array(q, np.float32), np.array([[0, 1, 2, 3]]), material=metal, name=f"wall{k}")
     s.add_point_light(position=(0.3, 0.5, 0.2), intensity=1)
     s.set_camera(eye=(0, 0, 0.5), target=(0, 0, -1), fov=60)
@@ -100,10 +103,7 @@ def test_russian_roulette_is_unbiased_in_an_emissive_box():
     rho = 0.8
     s = kauri.Scene(color_space="acescg")
     wall = kauri.Lambert(albedo=(rho, rho, rho))
-    quads = [[(-1, -1, 1), (1, -1, 1), (1, -1, -1), (-1, -1, -1)], [(-1, 1, -1), (1, 1, -1), (1, 1, 1), (-1, 1, 1)],
-             [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1)], [(1, -1, 1), (-1, -1, 1), (-1, 1, 1), (1, 1, 1)],
-             [(-1, -1, 1), (-1, -1, -1), (-1, 1, -1), (-1, 1, 1)], [(1, -1, -1), (1, -1, 1), (1, 1, 1), (1, 1, -1)]]
-    for k, q in enumerate(quads):
+    for k, q in enumerate(CUBE_QUADS):
         s.add_mesh(np.array(q, np.float32), np.array([[0, 1, 2, 3]]), material=wall,
                    emission=kauri.Emission(two_sided=True), name=f"wall{k}")
     s.set_camera(eye=(0, 0, 0.5), target=(0, 0, -1), fov=60)

@@ -50,8 +50,8 @@ KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel&
   int li = s.select_light(u.x, hit.p, cfg.light_tree, &pmf, &u.x);
   if (li < 0 || !(pmf > 0)) return SampledSpectrum(0);
   const Light& light = s.lights[li];
-  // Material lights' radiance comes from their EDFs: their Le (a power estimate) is not
-  // evaluated.
+  // A material light's Le is only a power estimate, replaced by its EDFs below: it stays
+  // out of the path's cache.
   LightSample ls = sample_light(light, hit.p, u, lambda, kNextEventDensity, light.material >= 0 ? nullptr : emission);
   if (light.material >= 0 && ls.pdf > 0) ls.L = material_emission(s, light.material, ls.n_light, -ls.wi, lambda);
   if (!(ls.pdf > 0) || ls.L.is_black()) return SampledSpectrum(0);
