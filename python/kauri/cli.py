@@ -63,7 +63,7 @@ def _cmd_render(args) -> int:
         result = render(scene, spp=args.spp, resolution=(w, h), seed=args.seed, threads=args.threads,
                         time_limit=args.time_limit, max_depth=args.max_depth, clamp=clamp,
                         sampler=args.sampler, reconstruction=args.reconstruction, progress=not args.quiet,
-                        aovs=not args.no_aovs, light_sampler=args.light_sampler)
+                        aovs=not args.no_aovs, light_sampler=args.light_sampler, rr_depth=args.rr_depth)
     except (SceneError, ValueError) as e:
         print(f"kauri: error: {e}", file=sys.stderr)
         return 2
@@ -94,6 +94,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--time-limit", type=float, default=0.0, metavar="T",
                    help="stop after T seconds, at the end of a progressive pass (default: no limit)")
     r.add_argument("--max-depth", type=int, default=16, metavar="D", help="maximum path depth (default 16)")
+    r.add_argument("--rr-depth", type=int, default=4, metavar="N",
+                   help="diffuse bounces before Russian roulette may end a path (default 4; "
+                        "above the diffuse budget: no roulette)")
     r.add_argument("--clamp", type=float, default=None, metavar="C",
                    help=f"clamp indirect sample luminance to C; 0 = off (default: off, or {DEMO_CLAMP:g} "
                         "for the demo scene, which tames its glass caustics)")

@@ -10,7 +10,7 @@ from . import _core
 from .scene import Scene, SceneError
 
 _RENDER_KEYS = ("spp", "resolution", "seed", "threads", "time_limit", "sampler", "max_depth", "max_diffuse",
-                "max_glossy", "max_transmission", "clamp", "filter", "filter_radius", "filter_sigma", "reconstruction",
+                "max_glossy", "max_transmission", "rr_depth", "clamp", "filter", "filter_radius", "filter_sigma", "reconstruction",
                 "progress", "aovs", "light_sampler")
 
 
@@ -57,7 +57,8 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
            time_limit: float = 0.0, sampler: str = "zsobol", max_depth: int = 16, max_diffuse: int = 6,
            max_glossy: int = 8, max_transmission: int = 12, clamp: float = 0.0, filter: str = "gaussian",
            filter_radius: float = 2.0, filter_sigma: float = 0.5, reconstruction: str = "splat",
-           progress: bool = False, aovs: bool = True, light_sampler: str = "tree", **extra) -> RenderOutput:
+           progress: bool = False, aovs: bool = True, light_sampler: str = "tree", rr_depth: int = 4,
+           **extra) -> RenderOutput:
     """Renders ``scene``; returns a RenderOutput. Stops after ``spp`` samples per pixel or at
     the first pass boundary after ``time_limit`` seconds. Deterministic for a given seed,
     whatever ``threads`` is. The pixel filter is a Gaussian of std-dev ``filter_sigma``
@@ -75,15 +76,20 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
     their power share either way. ``sampler``: "zsobol" (default) Owen-scrambled Sobol'
     points with neighbouring pixels taking blocks of one sequence in a scrambled Morton
     order (blue-noise error, as pbrt-v4's ZSobol); "sobol", the same points with each pixel
-    scrambled on its own; "independent", PCG32 streams."""
+    scrambled on its own; "independent", PCG32 streams. ``rr_depth``: diffuse bounces a path
+    makes before Russian roulette may end it (default 4; glossy and specular bounces do not
+    count; a value above ``max_diffuse`` turns roulette off, and the bounce budgets alone end
+    paths). Roulette is unbiased: it changes noise and speed, not the expected image."""
     if extra:
         raise SceneError(f"render: unknown parameter(s) {', '.join(map(repr, sorted(extra)))}; "
                          f"allowed: {', '.join(_RENDER_KEYS)}")
     w, h = _check_render_args("render", scene, resolution, spp, seed, threads)
+    if not isinstance(rr_depth, (int, np.integer)) or isinstance(rr_depth, bool) or rr_depth < 0:
+        raise SceneError(f"render: parameter 'rr_depth': expected an integer >= 0, got {rr_depth!r}")
     r = _core.render(scene._core, w, h, int(spp), int(seed), int(threads), float(time_limit), sampler,
                      int(max_depth), int(max_diffuse), int(max_glossy), int(max_transmission), float(clamp),
                      filter, float(filter_radius), float(filter_sigma), reconstruction, bool(progress), bool(aovs),
-                     light_sampler)
+                     light_sampler, int(rr_depth))
     return RenderOutput(r.rgba, r.albedo, r.normal, r.depth, r.stats, r.color_space, r)
 
 

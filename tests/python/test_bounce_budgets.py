@@ -93,6 +93,16 @@ def test_russian_roulette_waits_for_diffuse_bounces(roughness):
         assert closest + 0.5 * out.stats["samples"] * depth <= out.stats["rays"] <= closest + out.stats["samples"] * depth
 
 
+def emissive_box(rho):
+    s = kauri.Scene(color_space="acescg")
+    wall = kauri.Lambert(albedo=(rho, rho, rho))
+    for k, q in enumerate(CUBE_QUADS):
+        s.add_mesh(np.array(q, np.float32), np.array([[0, 1, 2, 3]]), material=wall,
+                   emission=kauri.Emission(two_sided=True), name=f"wall{k}")
+    s.set_camera(eye=(0, 0, 0.5), target=(0, 0, -1), fov=60)
+    return s
+
+
 def test_russian_roulette_is_unbiased_in_an_emissive_box():
     # The camera inside a closed cube whose walls are grey Lambert (rho = 0.8) and emit
     # Le = 1 (two-sided, white): every point sees only the walls, so the radiance is
@@ -101,13 +111,7 @@ def test_russian_roulette_is_unbiased_in_an_emissive_box():
     # probability not undone by its weight would show here. Bounce budgets of 64 leave
     # rho^65 ~ 5e-7 of the series out.
     rho = 0.8
-    s = kauri.Scene(color_space="acescg")
-    wall = kauri.Lambert(albedo=(rho, rho, rho))
-    for k, q in enumerate(CUBE_QUADS):
-        s.add_mesh(np.array(q, np.float32), np.array([[0, 1, 2, 3]]), material=wall,
-                   emission=kauri.Emission(two_sided=True), name=f"wall{k}")
-    s.set_camera(eye=(0, 0, 0.5), target=(0, 0, -1), fov=60)
-    out = kauri.render(s, spp=64, resolution=(16, 16), seed=3, progress=False, aovs=False,
+    out = kauri.render(emissive_box(rho), spp=64, resolution=(16, 16), seed=3, progress=False, aovs=False,
                        max_depth=64, max_diffuse=64)
     # One render's mean over its pixels scatters by ~0.3% (six seeds); a roulette that
     # dropped its 1/p weight would lose a sizeable part of the third past bounce 4.
@@ -115,3 +119,29 @@ def test_russian_roulette_is_unbiased_in_an_emissive_box():
     np.testing.assert_allclose(mean, 1 / (1 - rho), rtol=0.01)
     # And the paths really are long: well over the 4 bounces before roulette, on average.
     assert out.stats["rays"] / out.stats["samples"] > 2 * 4
+
+
+def test_rr_depth_trades_rays_for_noise_not_brightness():
+    # rr_depth moves where roulette starts: from the first diffuse bounce (0), the default
+    # 4, or never (above the diffuse budget: every path in the closed box then makes all 64
+    # bounces, 65 closest-hit queries per camera sample). The image mean stays
+    # Le / (1 - rho) = 5 whichever, and earlier roulette traces fewer rays.
+    rho, depth = 0.8, 64
+    s = emissive_box(rho)
+    rays = {}
+    for rr in (0, 4, depth + 1):
+        out = kauri.render(s, spp=32, resolution=(16, 16), seed=7, progress=False, aovs=False,
+                           max_depth=depth, max_diffuse=depth, rr_depth=rr)
+        mean = out.rgba[:, :, :3].reshape(-1, 3).mean(axis=0)
+        np.testing.assert_allclose(mean, 1 / (1 - rho), rtol=0.015)
+        rays[rr] = out.stats["rays"] / out.stats["samples"]
+    assert rays[0] < 0.95 * rays[4]  # 12.0 against 13.7 here: survival ~0.8^(1/3) per bounce
+    # No roulette: every camera sample makes 65 closest-hit queries and at most 64 shadow rays.
+    assert depth + 1 <= rays[depth + 1] <= 2 * depth + 1
+    assert rays[4] < 0.5 * rays[depth + 1]
+
+
+@pytest.mark.parametrize("bad", [-1, 1.5, True, "4"])
+def test_rr_depth_must_be_a_count(bad):
+    with pytest.raises(kauri.SceneError, match="rr_depth"):
+        kauri.render(emissive_box(0.5), spp=1, resolution=(4, 4), progress=False, rr_depth=bad)

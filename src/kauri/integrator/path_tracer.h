@@ -167,8 +167,9 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     // once the path has made rr_min_depth diffuse bounces. Glossy and specular bounces do
     // not count: they keep light concentrated, and killing such paths in proportion to
     // their throughput cost the glossy bench scene 18% more variance for 3.5% fewer rays
-    // (the bounce budgets still bound them).
-    if (st.diffuse_depth >= cfg.rr_min_depth) {
+    // (the bounce budgets still bound them). A last segment (a budget ran out) is traced
+    // whatever its throughput, so rr_min_depth > max_diffuse means no roulette at all.
+    if (!st.last_segment && st.diffuse_depth >= cfg.rr_min_depth) {
       Float p = path_detail::rr_survival((st.beta * st.eta_scale).max_value());
       if (!(u_lobe_rr.y < p)) break;
       st.beta *= 1 / p;

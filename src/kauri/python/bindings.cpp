@@ -378,11 +378,14 @@ NB_MODULE(_core, m) {
   m.def("render", [](const Scene& scene, int width, int height, int spp, uint64_t seed, int threads, double time_limit,
                      const std::string& sampler, int max_depth, int max_diffuse, int max_glossy, int max_transmission,
                      float clamp, const std::string& filter, float filter_radius, float filter_sigma,
-                     const std::string& reconstruction, bool progress, bool aovs, const std::string& light_sampler) {
+                     const std::string& reconstruction, bool progress, bool aovs, const std::string& light_sampler,
+                     int rr_depth) {
     RenderSettings cfg = render_settings(width, height, spp, seed, threads, time_limit, sampler, max_depth, max_diffuse,
                                          max_glossy, max_transmission, clamp, filter, filter_radius, filter_sigma,
                                          reconstruction, progress);
     cfg.aovs = aovs;
+    if (rr_depth < 0) throw std::invalid_argument("render: parameter 'rr_depth': must be >= 0");
+    cfg.integrator.rr_min_depth = rr_depth;
     if (light_sampler == "tree") cfg.integrator.light_tree = true;
     else if (light_sampler == "power") cfg.integrator.light_tree = false;
     else
