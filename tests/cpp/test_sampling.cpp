@@ -578,6 +578,23 @@ TEST(Sobol, SupersetXorIsTheReversedDimensionOneMatrix) {
   }
 }
 
+#if KAURI_SOBOL_VECTORS
+TEST(Sobol, VectorBitReversalIsPerLane) {
+  // The batch reverses words in vector lanes (byte shuffles with AVX2, shifts and masks
+  // otherwise): every lane must be reverse_bits32 of its word, single bits included.
+  PCG32 rng;
+  rng.set_sequence(8, 3);
+  for (int k = 0; k < 20000; ++k) {
+    sobol_detail::U32x8 v;
+    for (int i = 0; i < 8; ++i) v[i] = k < 4 ? 1u << (8 * k + 3 * i % 8) : rng.next_u32();
+    const sobol_detail::U32x8 r8 = sobol_detail::reverse_words(v);
+    const sobol_detail::U32x4 r4 = sobol_detail::reverse_words(sobol_detail::U32x4{v[0], v[1], v[2], v[3]});
+    for (int i = 0; i < 8; ++i) ASSERT_EQ(r8[i], reverse_bits32(v[i])) << v[i];
+    for (int i = 0; i < 4; ++i) ASSERT_EQ(r4[i], reverse_bits32(v[i])) << v[i];
+  }
+}
+#endif
+
 TEST(Sobol, BatchMatchesOwenSobol2dBitForBit) {
   // owen_sobol_batch computes four pairs in vector lanes (GCC/Clang) or by a loop
   // (elsewhere); both must be owen_sobol_2d exactly, at any batch start and seed.

@@ -10,6 +10,10 @@
 
 #include "kauri/sampler/rng.h"
 
+#if !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__)) && defined(__AVX2__)
+#include <immintrin.h>  // reverse_lane_bits
+#endif
+
 namespace kauri {
 
 namespace sobol_detail {
@@ -87,6 +91,39 @@ KAURI_HOST_DEVICE inline W reverse_words(W v) {
   v = ((v >> 8) & 0x00FF00FFu) | ((v & 0x00FF00FFu) << 8);
   return (v >> 16) | (v << 16);
 }
+
+#if KAURI_SOBOL_VECTORS && defined(__AVX2__)
+/// Bit reversal of every 32-bit lane by byte shuffles (AVX2 vpshufb), the overloads the
+/// batch below picks: the word's bytes in reverse order, then each byte's bits from two
+/// 16-entry tables indexed by its nibbles (the reversed low nibble becomes the high one).
+/// Seven operations per register against reverse_words' twenty; the same words (tests).
+inline __m256i reverse_lane_bits(__m256i v) {
+  const __m256i byte_order = _mm256_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12,  //
+                                              3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12);
+  // rev4(n) and rev4(n) << 4 for n = 0 … 15 (rev4: the 4-bit reversal).
+  const __m256i rev_lo = _mm256_setr_epi8(0, 8, 4, 12, 2, 10, 6, 14, 1, 9, 5, 13, 3, 11, 7, 15,  //
+                                          0, 8, 4, 12, 2, 10, 6, 14, 1, 9, 5, 13, 3, 11, 7, 15);
+  const __m256i rev_hi = _mm256_slli_epi16(rev_lo, 4);  // no byte exceeds 0x0F: no carry between bytes
+  const __m256i nibble = _mm256_set1_epi8(0x0F);
+  const __m256i b = _mm256_shuffle_epi8(v, byte_order);
+  const __m256i lo = _mm256_and_si256(b, nibble), hi = _mm256_and_si256(_mm256_srli_epi16(b, 4), nibble);
+  return _mm256_or_si256(_mm256_shuffle_epi8(rev_hi, lo), _mm256_shuffle_epi8(rev_lo, hi));
+}
+inline U32x8 reverse_words(U32x8 v) {
+  __m256i x;
+  __builtin_memcpy(&x, &v, sizeof x);
+  x = reverse_lane_bits(x);
+  __builtin_memcpy(&v, &x, sizeof v);
+  return v;
+}
+inline U32x4 reverse_words(U32x4 v) {
+  __m128i x;
+  __builtin_memcpy(&x, &v, sizeof x);
+  x = _mm256_castsi256_si128(reverse_lane_bits(_mm256_castsi128_si256(x)));
+  __builtin_memcpy(&v, &x, sizeof v);
+  return v;
+}
+#endif
 }  // namespace sobol_detail
 
 KAURI_HOST_DEVICE inline uint32_t reverse_bits32(uint32_t v) {
