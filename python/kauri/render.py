@@ -36,6 +36,11 @@ class RenderOutput:
         self._result.write_png(str(path), float(exposure))
 
 
+def _check_integer(what: str, name: str, v) -> None:
+    if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+        raise SceneError(f"{what}: parameter '{name}': expected an integer, got {type(v).__name__}")
+
+
 def _check_render_args(what: str, scene, resolution, spp, seed, threads) -> tuple:
     if not isinstance(scene, Scene):
         raise SceneError(f"{what}: parameter 'scene': expected kauri.Scene, got {type(scene).__name__}")
@@ -46,8 +51,7 @@ def _check_render_args(what: str, scene, resolution, spp, seed, threads) -> tupl
     except (TypeError, ValueError):
         raise SceneError(f"{what}: parameter 'resolution': expected (width, height), got {resolution!r}") from None
     for name, v in (("spp", spp), ("seed", seed), ("threads", threads)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
-            raise SceneError(f"{what}: parameter '{name}': expected an integer, got {type(v).__name__}")
+        _check_integer(what, name, v)
     if seed < 0:
         raise SceneError(f"{what}: parameter 'seed': must be >= 0")
     return w, h
@@ -84,8 +88,9 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
         raise SceneError(f"render: unknown parameter(s) {', '.join(map(repr, sorted(extra)))}; "
                          f"allowed: {', '.join(_RENDER_KEYS)}")
     w, h = _check_render_args("render", scene, resolution, spp, seed, threads)
-    if not isinstance(rr_depth, (int, np.integer)) or isinstance(rr_depth, bool) or rr_depth < 0:
-        raise SceneError(f"render: parameter 'rr_depth': expected an integer >= 0, got {rr_depth!r}")
+    _check_integer("render", "rr_depth", rr_depth)
+    if rr_depth < 0:
+        raise SceneError(f"render: parameter 'rr_depth': must be >= 0, got {rr_depth}")
     r = _core.render(scene._core, w, h, int(spp), int(seed), int(threads), float(time_limit), sampler,
                      int(max_depth), int(max_diffuse), int(max_glossy), int(max_transmission), float(clamp),
                      filter, float(filter_radius), float(filter_sigma), reconstruction, bool(progress), bool(aovs),
