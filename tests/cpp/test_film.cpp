@@ -65,6 +65,43 @@ TEST(FilmSplat, GaussianWeightsFollowTheFilter) {
     }
 }
 
+// The radius-2 Gaussian's fixed 4×4 splat (splat_gaussian_4x4) and the general path it
+// falls back to near the edges must both put the filter's weight on exactly the pixels
+// of the half-open support: random positions, positions on pixel edges and centres (where a
+// support boundary falls on a pixel centre) and one float step either side of them.
+TEST(FilmSplat, EverySplatFollowsTheFilter) {
+  PixelFilter f;  // σ 0.5, radius 2
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0, 12);
+  std::vector<Vec2> positions;
+  for (int k = 0; k < 300; ++k) positions.push_back({u(rng), u(rng)});
+  for (float c : {0.0f, 0.5f, 2.0f, 2.5f, 5.0f, 5.5f, 9.5f, 11.5f, 11.0f})
+    for (float x : {c, std::nextafter(c, 0.0f), std::nextafter(c, 20.0f)})
+      if (x >= 0 && x < 12) positions.push_back({x, std::fmod(x * 7.3f, 12.0f)});
+  int fast = 0;
+  for (Vec2 p : positions) {
+    TestFilm film(12, 12);
+    splat_sample(film.view(), f, p, Vec3{1, 2, 3}, 1);
+    int x0, y0;
+    Float w4[4];
+    fast += film_detail::gaussian_weights4(f, gaussian_step_ratio(f), p.x, &x0, w4) &&
+            film_detail::gaussian_weights4(f, gaussian_step_ratio(f), p.y, &y0, w4) && x0 >= 0 && y0 >= 0 &&
+            x0 + 3 < 12 && y0 + 3 < 12;
+    for (int y = 0; y < 12; ++y)
+      for (int x = 0; x < 12; ++x) {
+        const double dx = double(p.x - (Float(x) + 0.5f)), dy = double(p.y - (Float(y) + 0.5f));
+        const bool inside = dx >= -2 && dx < 2 && dy >= -2 && dy < 2;
+        const double want = inside ? std::exp(-(dx * dx + dy * dy) / (2 * 0.25)) : 0;
+        const PixelAccum& a = film.at(x, y);
+        ASSERT_NEAR(a.weight, want, 1e-5 * want + 1e-30) << p.x << ", " << p.y << " at " << x << ", " << y;
+        ASSERT_EQ(a.weight > 0, inside) << p.x << ", " << p.y << " at " << x << ", " << y;
+        ASSERT_NEAR(a.rgb[2], 3 * a.weight, 1e-12);
+      }
+  }
+  EXPECT_GT(fast, 100);  // both paths were taken
+  EXPECT_LT(fast, int(positions.size()));
+}
+
 // The two-exponential recurrence must match weight_1d, including narrow Gaussians on
 // wide supports (where it falls back to one exponential per pixel).
 TEST(FilmSplat, PolynomialExpMatchesExp) {
