@@ -900,7 +900,7 @@ def round_time_ratios(peer_times, kauri_times):
 # Cycles with its default pattern, Mitsuba with its best sampler. "multijitter" (correlated
 # multi-jittered sampling, Kensler 2013) converges fastest of Mitsuba 3's samplers on every
 # bench scene: relMSE x time at 256 spp (llvm_ad_rgb) 1.6x better than Mitsuba's default
-# "independent" on glossy, 2.5x on cornell, 6.5x on hangar (docs/benchmarks.md). It rounds
+# "independent" on glossy, 2.5x on cornell, 6.5x on hangar (docs/benchmarks-history.md, cda73de run). It rounds
 # some sample counts up (128 -> 132; squares are kept, and peers.render_mitsuba refuses a
 # count it would change), so the ladders hold squares. The agreement section keeps "independent": it tests the mean.
 SPEED_MITSUBA_SAMPLER = "multijitter"
