@@ -159,6 +159,69 @@ TEST(LightTree, PrefersTheLampsThatContribute) {
   EXPECT_NEAR(v.pmf(0, above), 1.0f / 256, 1e-5f);
 }
 
+// 5000 lamps: five levels of 8 lanes, so every trail step (3 bits per level) is used. The
+// pmf still sums to one, and sample() returns what pmf() says, for lights on every branch.
+TEST(LightTree, DeepTreesKeepTheirTrails) {
+  std::vector<Light> lights;
+  std::vector<Float> power;
+  PCG32 rng(17, 3);
+  for (int i = 0; i < 5000; ++i) {
+    const Point3 c{20 * rng.next_float() - 10, 20 * rng.next_float() - 10, 20 * rng.next_float() - 10};
+    lights.push_back(triangle_light(c, normalize(Vec3{rng.next_float() - 0.5f, -1, rng.next_float() - 0.5f}), 0.05f,
+                                    i % 3 == 0));
+    power.push_back(0.5f + rng.next_float());
+  }
+  LightTreeStorage t = build_light_tree(lights, power);
+  const LightTreeView v = t.view();
+  uint32_t deepest = 0;
+  for (uint32_t bits : t.trail) deepest |= bits;
+  EXPECT_NE(deepest >> (4 * kLightTreeTrailBits), 0u) << "a light five levels down";
+  for (const Point3& p : {Point3{0, 0, 0}, Point3{8, -9, 3}}) {
+    double sum = 0;
+    for (int i = 0; i < int(lights.size()); ++i) sum += v.pmf(i, p);
+    EXPECT_NEAR(sum, 1.0, 1e-4);
+    for (int k = 0; k < 4000; ++k) {
+      Float pmf;
+      const int li = v.sample((Float(k) + 0.5f) / 4000, p, &pmf);
+      ASSERT_GE(li, 0);
+      ASSERT_NEAR(pmf, v.pmf(li, p), 1e-5f * pmf) << "light " << li;
+    }
+  }
+}
+
+// The vector steps of a node (AVX2 where the build has it) against their lane-by-lane
+// definitions, on every node of a tree at random points: the lanes' probabilities, and the
+// lane an interval position falls in (the same lane but within rounding of a boundary).
+TEST(LightTree, VectorStepsMatchTheLaneByLaneDefinition) {
+  RandomLights r;
+  LightTreeStorage t = build_light_tree(r.lights, r.power);
+  PCG32 rng(23, 1);
+  int compared = 0;
+  for (const LightTreeNode& node : t.nodes)
+    for (int k = 0; k < 200; ++k) {
+      const Point3 p{12 * rng.next_float() - 6, 12 * rng.next_float() - 6, 12 * rng.next_float() - 6};
+      Float imp[kLightTreeArity], want[kLightTreeArity], got[kLightTreeArity];
+      light_tree_importance(node, p, imp);
+      light_tree_probs_scalar(node, imp, want);
+      light_tree_child_probs(node, p, got);
+      for (int j = 0; j < kLightTreeArity; ++j) ASSERT_NEAR(got[j], want[j], 1e-6f * want[j] + 1e-30f) << j;
+      const Float lo = rng.next_float() * 0.5f, width = 0.1f + rng.next_float() * 0.4f;
+      const Float u = lo + rng.next_float() * width;
+      Float start_v, start_s;
+      const int lane_v = light_tree_choose(got, u, lo, width, &start_v);
+      const int lane_s = light_tree_choose_scalar(got, u, lo, width, &start_s);
+      if (lane_v != lane_s) {  // only where u is a boundary up to rounding
+        ASSERT_NEAR(u, lane_v > lane_s ? start_v : start_s, 1e-6f) << "lanes " << lane_v << ", " << lane_s;
+        continue;
+      }
+      ASSERT_GT(got[lane_v], 0);
+      ASSERT_NEAR(start_v, start_s, 1e-6f);
+      ASSERT_LE(start_v, u + 1e-6f);
+      ++compared;
+    }
+  EXPECT_GT(compared, 1000);
+}
+
 TEST(LightTree, FewLightsAreLeftToPowerSelection) {
   std::vector<Light> lights;
   std::vector<Float> power;
@@ -169,7 +232,7 @@ TEST(LightTree, FewLightsAreLeftToPowerSelection) {
   EXPECT_EQ(build_light_tree(lights, power).view().n_nodes, 0);
   lights.push_back(triangle_light(Point3{-1, 5, 0}, Vec3{0, -1, 0}, 0.1f, false));
   power.push_back(1);
-  EXPECT_EQ(build_light_tree(lights, power).view().n_nodes, 1 + 4);  // 16 lights: the root's 4 lanes, 4 lanes each below
+  EXPECT_EQ(build_light_tree(lights, power).view().n_nodes, 1 + 8);  // 16 lights: the root's 8 lanes, 2 lanes each below
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "kauri/light/light.h"
@@ -71,7 +72,9 @@ struct Builder {
   LightTreeStorage out;
 
   Summary build(int begin, int end, int depth, uint32_t trail) {
-    if (depth > 16) throw std::runtime_error("light tree: deeper than its 32-bit trails (2 bits per level)");
+    if (depth >= kLightTreeMaxDepth)
+      throw std::runtime_error("light tree: deeper than its 32-bit trails allow (" +
+                               std::to_string(kLightTreeMaxDepth) + " levels)");
     Summary s;
     if (end - begin == 1) {
       const int li = order[size_t(begin)];
@@ -81,29 +84,35 @@ struct Builder {
       out.trail[size_t(li)] = trail;
       return s;
     }
-    // Two levels of median splits (widest axis of the light centres) give up to four
-    // groups, the node's lanes.
-    int bounds[kLightTreeArity + 1];
-    int n = 0;
-    bounds[n++] = begin;
-    const int mid = split(begin, end);
-    for (auto [b, e] : {std::pair{begin, mid}, std::pair{mid, end}}) {
-      if (e - b >= 2) bounds[n++] = split(b, e);
-      if (e != end) bounds[n++] = e;
+    // log2(arity) levels of median splits (widest axis of the light centres) give up to
+    // kLightTreeArity groups, the node's lanes: bounds[k] .. bounds[k + 1].
+    int bounds[kLightTreeArity + 1] = {begin, end};
+    int n = 1;
+    for (int groups = 1; groups < kLightTreeArity; groups *= 2) {
+      int next[kLightTreeArity + 1];
+      int m = 0;
+      for (int k = 0; k < n; ++k) {
+        next[m++] = bounds[k];
+        if (bounds[k + 1] - bounds[k] >= 2) next[m++] = split(bounds[k], bounds[k + 1]);
+      }
+      next[m] = end;
+      std::copy(next, next + m + 1, bounds);
+      n = m;
     }
-    bounds[n] = end;
     const int node = int(out.nodes.size());
     out.nodes.emplace_back();
     LightTreeNode lanes{};
     for (int k = 0; k < kLightTreeArity; ++k) lanes.cos_o[k] = -1;
     for (int k = 0; k < n; ++k) {
-      const Summary c = build(bounds[k], bounds[k + 1], depth + 1, trail | (uint32_t(k) << (2 * depth)));
+      const Summary c =
+          build(bounds[k], bounds[k + 1], depth + 1, trail | (uint32_t(k) << (kLightTreeTrailBits * depth)));
       set_lane(&lanes, k, c);
       s.lo = k == 0 ? c.lo : vmin(s.lo, c.lo);
       s.hi = k == 0 ? c.hi : vmax(s.hi, c.hi);
       s.cone = k == 0 ? c.cone : merge(s.cone, c.cone);
       s.power += c.power;
     }
+    for (int k = 0; k < n; ++k) lanes.power_share[k] = lanes.power[k] / s.power;
     out.nodes[size_t(node)] = lanes;  // after the recursion: emplace_back may have moved it
     s.child = node;
     return s;

@@ -1,6 +1,6 @@
 // Light tree: chooses among a scene's finite lights (area, point, spot) in proportion to
 // an estimate of what each contributes at the shading point, instead of in proportion to
-// power alone. A 4-wide tree over the lights stores, per child of a node, the bounds of
+// power alone. An 8-wide tree over the lights stores, per child of a node, the bounds of
 // its lights' extents, a cone bounding their emission normals and their total power; NEE
 // descends from the root choosing a child with probability ∝ its importance at the point (Conty
 // Estevez & Kulla 2018, "Importance Sampling of Many Lights with Adaptive Tree Splitting",
@@ -25,11 +25,26 @@
 
 #include "kauri/core/math.h"
 
+#if !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__)) && defined(__AVX2__)
+#include <immintrin.h>
+#define KAURI_LIGHT_TREE_AVX2 1
+#else
+#define KAURI_LIGHT_TREE_AVX2 0
+#endif
+
 namespace kauri {
 
-/// Children per node. Four, not two: a node's four bounds are computed as one 4-wide
-/// vector operation, and the tree is half as deep (288 lights: 5 levels instead of 9).
-inline constexpr int kLightTreeArity = 4;
+/// Children per node. Eight, not two: a node's eight bounds are one 8-wide vector
+/// operation (AVX2), and the tree is a third as deep (288 lights: 3 levels instead of 9);
+/// each choice weighs the bounds of eight smaller clusters, which a binary tree reaches
+/// only two levels further down. The steps after the bounds (their sum, the lanes'
+/// probabilities, the choice of lane) are written in AVX2 where the compiler has it: GCC 12
+/// leaves them scalar, and at 8 lanes they then cost what the saved levels gain.
+inline constexpr int kLightTreeArity = 8;
+/// Bits per level of a light's trail (the lane taken), and the depth 32-bit trails allow.
+inline constexpr int kLightTreeTrailBits = 3;
+inline constexpr int kLightTreeMaxDepth = 32 / kLightTreeTrailBits;
+static_assert((1 << kLightTreeTrailBits) == kLightTreeArity, "a trail step names one lane");
 /// Share of each choice that follows power alone (the defensive mixture above).
 inline constexpr Float kLightTreePowerShare = 0.1f;
 /// Fewer finite lights than this are chosen by power: a tree of a few lights costs more
@@ -38,7 +53,7 @@ inline constexpr Float kLightTreePowerShare = 0.1f;
 inline constexpr int kLightTreeMinLights = 16;
 
 /// The (up to) kLightTreeArity children of one inner node, lane by lane (structure of
-/// arrays), so that their four importance bounds are computed as one vector operation.
+/// arrays), so that their importance bounds are computed as one vector operation.
 /// Per lane: the bounding sphere of the child's lights, the cone bounding their emission
 /// normals (cos θ_o = −1: any direction: points, spheres, two-sided lights) and their power.
 struct LightTreeNode {
@@ -46,8 +61,9 @@ struct LightTreeNode {
   Float radius[kLightTreeArity], radius2[kLightTreeArity];  // radius2 ≥ 1e-12 (points, too)
   Float ax[kLightTreeArity], ay[kLightTreeArity], az[kLightTreeArity];
   Float cos_o[kLightTreeArity], sin_o[kLightTreeArity];
-  Float power[kLightTreeArity];  // 0 in unused lanes
-  int child[kLightTreeArity];    // ≥ 0: the node of that child's children; < 0: −1 − light
+  Float power[kLightTreeArity];        // 0 in unused lanes
+  Float power_share[kLightTreeArity];  // power[k] / Σ power (the defensive mixture's part)
+  int child[kLightTreeArity];          // ≥ 0: the node of that child's children; < 0: −1 − light
 };
 
 /// I_k = Φ cos θ' / d² for every lane k of `node` at point p (see the header), branch-free
@@ -77,26 +93,95 @@ KAURI_HOST_DEVICE inline void light_tree_importance(const LightTreeNode& n, Poin
   }
 }
 
+/// Probabilities of descending into each lane of `node` given the lanes' bounds `imp`:
+/// (1 − s) I_k / Σ I + s Φ_k / Σ Φ with s = kLightTreePowerShare, or Φ_k / Σ Φ where every
+/// bound is 0 (zero in unused lanes). The lane-by-lane definition, which the vector path
+/// below must match (tests/cpp/test_light_tree.cpp).
+KAURI_HOST_DEVICE inline void light_tree_probs_scalar(const LightTreeNode& node, const Float imp[kLightTreeArity],
+                                                      Float prob[kLightTreeArity]) {
+  Float imp_sum = 0;
+  for (int k = 0; k < kLightTreeArity; ++k) imp_sum += imp[k];
+  const Float a = imp_sum > 0 ? (1 - kLightTreePowerShare) / imp_sum : Float(0);
+  const Float b = imp_sum > 0 ? kLightTreePowerShare : Float(1);
+  for (int k = 0; k < kLightTreeArity; ++k) prob[k] = imp[k] * a + node.power_share[k] * b;
+}
+
+#if KAURI_LIGHT_TREE_AVX2
+static_assert(kLightTreeArity == 8, "the AVX2 steps hold a node's lanes in one 8-float register");
+namespace light_tree_detail {
+/// Σ of the 8 lanes, in every lane.
+inline __m256 lane_sum(__m256 v) {
+  v = _mm256_add_ps(v, _mm256_permute2f128_ps(v, v, 1));
+  v = _mm256_add_ps(v, _mm256_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
+  return _mm256_add_ps(v, _mm256_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
+}
+}  // namespace light_tree_detail
+#endif
+
 /// Probabilities of descending into each lane of `node` at p (zero in unused lanes).
 KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, Point3 p,
                                                      Float prob[kLightTreeArity]) {
-  Float imp[kLightTreeArity];
+  alignas(32) Float imp[kLightTreeArity];
   light_tree_importance(node, p, imp);
-  Float imp_sum = 0, pow_sum = 0;
-  for (int k = 0; k < kLightTreeArity; ++k) {
-    imp_sum += imp[k];
-    pow_sum += node.power[k];
+#if KAURI_LIGHT_TREE_AVX2
+  const __m256 i = _mm256_load_ps(imp);
+  const __m256 sum = light_tree_detail::lane_sum(i);
+  const __m256 bounded = _mm256_cmp_ps(sum, _mm256_setzero_ps(), _CMP_GT_OQ);
+  const __m256 a = _mm256_and_ps(bounded, _mm256_div_ps(_mm256_set1_ps(1 - kLightTreePowerShare), sum));
+  const __m256 b = _mm256_blendv_ps(_mm256_set1_ps(1), _mm256_set1_ps(kLightTreePowerShare), bounded);
+  _mm256_storeu_ps(prob, _mm256_fmadd_ps(i, a, _mm256_mul_ps(_mm256_loadu_ps(node.power_share), b)));
+#else
+  light_tree_probs_scalar(node, imp, prob);
+#endif
+}
+
+/// The lane of a node whose share [lo + width·cdf_k, lo + width·cdf_(k+1)) of the interval
+/// [lo, lo + width) holds u, cdf_k = Σ_(j<k) pk[j]: the last lane with probability whose
+/// share starts at or below u (lane 0 when none does). *start gets the share's start. The
+/// lane-by-lane definition, which the vector path below must match.
+KAURI_HOST_DEVICE inline int light_tree_choose_scalar(const Float pk[kLightTreeArity], Float u, Float lo, Float width,
+                                                      Float* start) {
+  int chosen = 0;
+  Float acc = 0;
+  *start = lo;
+  for (int k = 1; k < kLightTreeArity; ++k) {
+    acc += pk[k - 1];
+    const Float edge = lo + acc * width;
+    if (pk[k] > 0 && !(u < edge)) {
+      chosen = k;
+      *start = edge;
+    }
   }
-  const Float inv_imp = imp_sum > 0 ? 1 / imp_sum : Float(0), inv_pow = 1 / pow_sum;
+  return chosen;
+}
+
+KAURI_HOST_DEVICE inline int light_tree_choose(const Float pk[kLightTreeArity], Float u, Float lo, Float width,
+                                               Float* start) {
+#if KAURI_LIGHT_TREE_AVX2
+  // Exclusive prefix sums of the 8 probabilities in the scalar order (the shares must
+  // tile [lo, lo + width) as the scalar definition does), then one comparison of all 8
+  // starts with u and the highest lane that passes.
+  alignas(32) Float cdf[kLightTreeArity];
+  Float acc = 0;
   for (int k = 0; k < kLightTreeArity; ++k) {
-    const Float share = node.power[k] * inv_pow;
-    prob[k] = (1 - kLightTreePowerShare) * (imp_sum > 0 ? imp[k] * inv_imp : share) + kLightTreePowerShare * share;
+    cdf[k] = acc;
+    acc += pk[k];
   }
+  const __m256 edge = _mm256_fmadd_ps(_mm256_load_ps(cdf), _mm256_set1_ps(width), _mm256_set1_ps(lo));
+  const __m256 pass = _mm256_and_ps(_mm256_cmp_ps(edge, _mm256_set1_ps(u), _CMP_LE_OQ),
+                                    _mm256_cmp_ps(_mm256_loadu_ps(pk), _mm256_setzero_ps(), _CMP_GT_OQ));
+  const unsigned mask = unsigned(_mm256_movemask_ps(pass)) | 1u;  // lane 0 is the fallback
+  const int chosen = 31 - __builtin_clz(mask);
+  *start = chosen == 0 ? lo : lo + cdf[chosen] * width;
+  return chosen;
+#else
+  return light_tree_choose_scalar(pk, u, lo, width, start);
+#endif
 }
 
 struct LightTreeView {
   const LightTreeNode* nodes = nullptr;  // nodes[0] holds the root's children
-  const uint32_t* trail = nullptr;       // per light: 2 bits per level, the lane taken
+  const uint32_t* trail = nullptr;       // per light: kLightTreeTrailBits per level, the lane taken
   int n_nodes = 0;
 
   /// A finite light chosen at p; *pmf its probability (0 if the tree has no power).
@@ -110,17 +195,10 @@ struct LightTreeView {
     int i = 0;
     for (;;) {
       const LightTreeNode& n = nodes[i];
-      Float pk[kLightTreeArity];
+      Float pk[kLightTreeArity], start;
       light_tree_child_probs(n, p, pk);
-      int chosen = 0;
-      Float start = lo, taken = pk[0];
-      for (int k = 1; k < kLightTreeArity; ++k) {
-        const Float edge = start + taken * width;
-        const bool beyond = pk[k] > 0 && !(u < edge);
-        chosen = beyond ? k : chosen;
-        start = beyond ? edge : start;
-        taken = beyond ? pk[k] : taken;
-      }
+      const int chosen = light_tree_choose(pk, u, lo, width, &start);
+      const Float taken = pk[chosen];
       prob *= taken;
       lo = start;
       width *= taken;
@@ -138,11 +216,11 @@ struct LightTreeView {
     const uint32_t bits = trail[light];
     Float prob = 1;
     int i = 0;
-    for (int level = 0; level < 16; ++level) {
+    for (int level = 0; level < kLightTreeMaxDepth; ++level) {
       const LightTreeNode& n = nodes[i];
       Float pk[kLightTreeArity];
       light_tree_child_probs(n, p, pk);
-      const int k = int((bits >> (2 * level)) & 3u);
+      const int k = int((bits >> (kLightTreeTrailBits * level)) & uint32_t(kLightTreeArity - 1));
       prob *= pk[k];
       if (n.child[k] < 0) return -1 - n.child[k] == light ? prob : 0;
       i = n.child[k];
