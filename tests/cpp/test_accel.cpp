@@ -238,3 +238,42 @@ TEST(EmbreeAccel, ManyAnalyticShapesStayInEmbree) {
 
 }  // namespace
 }  // namespace kauri
+
+namespace kauri {
+namespace {
+
+// A mesh without uvs has the default parameterisation (0, 0), (1, 0), (1, 1) at its three
+// vertices: triangle_hit's closed form for it (uv = (u + v, v), ∂p/∂u = e1) must equal the
+// general path given those uvs explicitly, bit for bit.
+TEST(TriangleHit, MeshWithoutUVsHasTheDefaultParameterisation) {
+  const std::vector<Point3> p{{0.3f, -1.2f, 2.0f}, {4.1f, 0.7f, -1.5f}, {-2.2f, 3.3f, 0.4f}, {0, 0, 0}};
+  const std::vector<uint32_t> index{0, 1, 2};
+  const std::vector<Vec2> uv{{0, 0}, {1, 0}, {1, 1}};
+  MeshView bare;
+  bare.p = p.data();
+  bare.index = index.data();
+  bare.n_triangles = 1;
+  bare.n_vertices = 3;
+  MeshView with_uv = bare;
+  with_uv.uv = uv.data();
+  PCG32 rng(31, 7);
+  for (int k = 0; k < 1000; ++k) {
+    Float u = rng.next_float(), v = rng.next_float();
+    if (u + v > 1) {
+      u = 1 - u;
+      v = 1 - v;
+    }
+    SurfaceHit a, b;
+    triangle_hit(bare, 0, u, v, &a);
+    triangle_hit(with_uv, 0, u, v, &b);
+    ASSERT_EQ(a.uv.x, b.uv.x);
+    ASSERT_EQ(a.uv.y, b.uv.y);
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_EQ(a.dpdu[c], b.dpdu[c]);
+      ASSERT_EQ(a.p[c], b.p[c]);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace kauri

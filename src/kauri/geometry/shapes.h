@@ -76,13 +76,19 @@ KAURI_HOST_DEVICE inline void triangle_hit(const MeshView& m, uint32_t prim, Flo
   s->p = p0 * w + p1 * u + p2 * v;
   Vec3 e1 = p1 - p0, e2 = p2 - p0;
   s->ng = normalize(cross(e1, e2));
-  Vec2 uv0{0, 0}, uv1{1, 0}, uv2{1, 1};
-  if (m.uv) { uv0 = m.uv[i[0]]; uv1 = m.uv[i[1]]; uv2 = m.uv[i[2]]; }
-  s->uv = uv0 * w + uv1 * u + uv2 * v;
-  // ∂p/∂u from the uv parameterisation (pbrt-v4 §6.5.3 derivation).
-  Vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
-  Float det = d1.x * d2.y - d1.y * d2.x;
-  s->dpdu = std::fabs(det) > 1e-12f ? (e1 * d2.y - e2 * d1.y) / det : e1;
+  if (m.uv) {
+    const Vec2 uv0 = m.uv[i[0]], uv1 = m.uv[i[1]], uv2 = m.uv[i[2]];
+    s->uv = uv0 * w + uv1 * u + uv2 * v;
+    // ∂p/∂u from the uv parameterisation (pbrt-v4 §6.5.3 derivation).
+    const Vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
+    const Float det = d1.x * d2.y - d1.y * d2.x;
+    s->dpdu = std::fabs(det) > 1e-12f ? (e1 * d2.y - e2 * d1.y) / det : e1;
+  } else {
+    // The default parameterisation uv = (0, 0), (1, 0), (1, 1) at the three vertices, in
+    // closed form: uv = (u + v, v), and ∂p/∂u = e1 (d1 = (1, 0), d2 = (1, 1), det = 1).
+    s->uv = {u + v, v};
+    s->dpdu = e1;
+  }
   for (int a = 0; a < kMaxVertexAttributes; ++a)
     if (m.attr[a]) s->attrs[a] = m.attr[a][i[0]] * w + m.attr[a][i[1]] * u + m.attr[a][i[2]] * v;
   s->ns = s->ng;
