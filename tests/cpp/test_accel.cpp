@@ -236,12 +236,6 @@ TEST(EmbreeAccel, ManyAnalyticShapesStayInEmbree) {
   EXPECT_EQ(h.geom, 5u);
 }
 
-}  // namespace
-}  // namespace kauri
-
-namespace kauri {
-namespace {
-
 // A mesh without uvs has the default parameterisation (0, 0), (1, 0), (1, 1) at its three
 // vertices: triangle_hit's closed form for it (uv = (u + v, v), ∂p/∂u = e1) must equal the
 // general path given those uvs explicitly, bit for bit.
