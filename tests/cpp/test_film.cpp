@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "kauri/film/film.h"
+#include "kauri/film/splat_lanes.h"
 #include "kauri/render/renderer.h"
 #include "kauri/scene/scene.h"
 
@@ -136,6 +137,53 @@ TEST(FilmSplat, RecurrenceWeightsMatchTheFilter) {
         }
       }
     }
+}
+
+TEST(FilmSplat, GroupSplatEqualsSampleBySample) {
+  // splat_group against splat_sample, per group size, on pixels inside the image and on
+  // its corners and edges (clipped windows), with positions on pixel edges among them.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  const PixelFilter f;
+  const int w = 9, h = 7;
+  const int pixels[][2] = {{4, 3}, {0, 0}, {8, 6}, {1, 5}, {7, 0}, {2, 3}};
+  for (auto [x, y] : pixels) {
+    for (int n = 1; n <= kSplatLanes; ++n) {
+      TestFilm group(w, h), single(w, h);
+      Vec2 pos[kSplatLanes];
+      float v[kSplatLanes][4];
+      for (int k = 0; k < n; ++k) {
+        Float ux = uni(rng), uy = uni(rng);
+        if (k == 1) ux = 0.5f;         // centre of the window's middle column
+        if (k == 2) uy = 0;            // the pixel's top edge
+        if (k == 3) ux = kOneMinusEpsilon;
+        pos[k] = {Float(x) + ux, Float(y) + uy};
+        for (int c = 0; c < 4; ++c) v[k][c] = c == 3 ? float(k % 2) : 3 * uni(rng);
+        splat_sample(single.view(), f, pos[k], Vec3{v[k][0], v[k][1], v[k][2]}, v[k][3]);
+      }
+      ASSERT_TRUE(splat_group(group.view(), f, x, y, pos, v, n));
+      for (int py = 0; py < h; ++py)
+        for (int px = 0; px < w; ++px) {
+          const PixelAccum &a = group.at(px, py), &b = single.at(px, py);
+          SCOPED_TRACE(testing::Message() << "pixel " << x << "," << y << " n " << n << " at " << px << "," << py);
+          EXPECT_NEAR(a.weight, b.weight, 2e-6 * (1 + b.weight));
+          EXPECT_EQ(a.weight == 0, b.weight == 0);  // the same pixels reached
+          for (int c = 0; c < 3; ++c) EXPECT_NEAR(a.rgb[c], b.rgb[c], 2e-6 * (1 + std::fabs(b.rgb[c])));
+          EXPECT_NEAR(a.alpha, b.alpha, 2e-6 * (1 + b.alpha));
+        }
+    }
+  }
+  // Filters it does not cover are left to splat_sample, with nothing added.
+  TestFilm film(w, h);
+  PixelFilter box;
+  box.type = FilterType::Box;
+  Vec2 pos[1] = {{4.5f, 3.5f}};
+  const float v[1][4] = {{1, 1, 1, 1}};
+  EXPECT_FALSE(splat_group(film.view(), box, 4, 3, pos, v, 1));
+  PixelFilter wide;
+  wide.radius = 3;
+  EXPECT_FALSE(splat_group(film.view(), wide, 4, 3, pos, v, 1));
+  for (const PixelAccum& p : film.px) EXPECT_EQ(p.weight, 0);
 }
 
 TEST(FilmSplat, ClipsAtTheImageEdges) {

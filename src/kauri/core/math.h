@@ -33,12 +33,17 @@ KAURI_HOST_DEVICE inline float bits_as_float(uint32_t u) {
 /// with n = round(x / ln 2) and y = x − n ln 2 (Cody–Waite: ln 2 in two parts, so y
 /// stays exact), |y| ≤ ln 2 / 2, and e^y by its Taylor series to degree 7 (first omitted
 /// term < 6e-9). Relative error ~2e-7, the same on every CPU and on CUDA.
+KAURI_HOST_DEVICE inline Float exp_poly(Float x);
+/// exp_poly's two steps after n = round(x / ln 2), written once for floats and for vector
+/// lanes (film/splat_lanes.h): y = x − n ln 2 with ln 2 in two parts, and e^y to degree 7.
+template <class F>
+KAURI_HOST_DEVICE inline F exp_poly_reduced(F x, F n) {
+  const F y = (x - n * 0.693145752f) - n * 1.42860677e-6f;  // ln 2 = 0.693145752 + 1.42860677e-6
+  return 1 + y * (1 + y * (1.0f / 2 + y * (1.0f / 6 + y * (1.0f / 24 + y * (1.0f / 120 + y * (1.0f / 720 + y * (1.0f / 5040)))))));
+}
 KAURI_HOST_DEVICE inline Float exp_poly(Float x) {
   const Float n = std::floor(x * 1.44269504f + 0.5f);
-  const Float y = (x - n * 0.693145752f) - n * 1.42860677e-6f;  // ln 2 = 0.693145752 + 1.42860677e-6
-  const Float p =
-      1 + y * (1 + y * (1.0f / 2 + y * (1.0f / 6 + y * (1.0f / 24 + y * (1.0f / 120 + y * (1.0f / 720 + y * (1.0f / 5040)))))));
-  return p * bits_as_float(uint32_t(int32_t(n) + 127) << 23);
+  return exp_poly_reduced(x, n) * bits_as_float(uint32_t(int32_t(n) + 127) << 23);
 }
 
 struct Vec2 {

@@ -17,6 +17,8 @@
 #include <stdexcept>
 
 #include "kauri/integrator/path_tracer.h"
+#include "kauri/film/splat_lanes.h"
+#include "kauri/render/sample_lanes.h"
 
 namespace kauri {
 
@@ -101,12 +103,6 @@ struct TileContext {
   std::mutex& nan_mutex;
 };
 
-/// Clamps the indirect part of a sample to luminance `clamp` (hue preserved).
-Vec3 clamp_luminance(Vec3 rgb, Float y, Float clamp) {
-  if (clamp <= 0 || y <= clamp) return rgb;
-  return rgb * (clamp / y);
-}
-
 /// Settings the render loop relies on (the Python layer checks them first, with its names).
 void check_settings(const RenderSettings& cfg) {
   if (cfg.width <= 0 || cfg.height <= 0) throw std::invalid_argument("render: the image size must be positive");
@@ -156,32 +152,26 @@ Ray camera_sample(const TileContext& c, int x, int y, uint32_t s, Sampler& sampl
   return sv.camera.generate_ray(*film_pos, u_lens);
 }
 
-/// One path of sample `s` of pixel (x, y) from its camera ray and first hit, into the film
-/// (beauty) and the pixel's AOV sums.
-template <class Accel>
-void render_path(const TileContext& c, const Accel& accel, int x, int y, uint32_t s, const Ray& ray, Vec2 film_pos,
-                 SampledWavelengths& lambda, Sampler& sampler, const HitRecord& primary, bool primary_found,
-                 PixelAccum& px, PixelAOVAccum* aov, uint64_t* rays) {
+/// Sample `s` of pixel (x, y) before it enters the film: its beauty (r, g, b, α) from its
+/// colour `rgb` (sample_rgb_lanes), and its path's first-hit data into the pixel's AOV
+/// sums. A NaN/Inf sample is counted and reported, and enters the film as black with its
+/// full weight, so the estimate stays normalised by what was traced.
+void finish_sample(const TileContext& c, int x, int y, uint32_t s, Vec3 rgb, const PathOutput& out,
+                   const SampledWavelengths& lambda, PixelAOVAccum* aov, float beauty[4]) {
   const SceneView& sv = c.scene.view();
-  PathOutput out;
-  trace_path(sv, accel, c.cfg.integrator, ray, lambda, sampler, &out, &primary, primary_found);
-  *rays += out.rays;
-  const SampledXYZWeights to_xyz(lambda);
-  Vec3 direct = sv.to_rgb(to_xyz(out.L_direct_first));
-  Vec3 indirect_xyz = to_xyz(out.L);
-  Vec3 rgb = direct + clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, c.cfg.integrator.clamp);
   if (!is_finite(rgb)) {
-    // A NaN/Inf sample is counted and reported, and enters the film as black with
-    // its full weight, so the estimate stays normalised by what was traced.
     c.nan_samples.fetch_add(1);
     {
       std::lock_guard<std::mutex> lock(c.nan_mutex);
       if (c.nan_pixels.size() < 32) c.nan_pixels.push_back({x, y, s});
     }
-    add_beauty(c, px, film_pos, Vec3{0, 0, 0}, 0);
+    beauty[0] = beauty[1] = beauty[2] = beauty[3] = 0;
     return;
   }
-  add_beauty(c, px, film_pos, rgb, out.hit ? 1 : 0);
+  beauty[0] = rgb.x;
+  beauty[1] = rgb.y;
+  beauty[2] = rgb.z;
+  beauty[3] = out.hit ? 1 : 0;
   if (!c.cfg.aovs) return;
   if (out.hit) {
     aov->normal[0] += double(out.normal.x);
@@ -194,6 +184,7 @@ void render_path(const TileContext& c, const Accel& accel, int x, int y, uint32_
   }
   if (out.albedo_set) {
     // Albedo: the colour of the reflectance under the working space's white.
+    const SampledXYZWeights to_xyz(lambda);
     SampledSpectrum white = sv.illuminant.sample(lambda);
     Vec3 num = to_xyz(out.albedo * white), den = to_xyz(white);
     if (is_finite(num)) {
@@ -208,33 +199,53 @@ void render_path(const TileContext& c, const Accel& accel, int x, int y, uint32_
 template <class Accel>
 void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y, uint32_t s0, uint32_t s1,
                           uint64_t* rays) {
+  const SceneView& sv = c.scene.view();
   PixelAccum& px = c.film.at(x, y);
   // Data AOV sums: allocated only when the render gathers them (cfg.aovs).
   PixelAOVAccum* aov = c.cfg.aovs ? c.aovs + (size_t(y) * size_t(c.film.width) + size_t(x)) : nullptr;
-  // The pixel's samples go in groups of a packet: their camera rays first, traced together,
-  // then each path from its first hit. Every sample keeps its own sampler, so each path
-  // draws the dimensions it would draw alone and the image is as with one ray at a time.
+  // The pixel's samples go in groups of a packet, in three stages: their camera rays (in
+  // vector lanes, sample_lanes.h), traced together; each path from its first hit; their
+  // colours (in lanes) into the film, splatted together (splat_lanes.h). Every sample keeps its own sampler,
+  // so each path draws the dimensions it would draw alone and the image is as with one
+  // sample at a time.
   constexpr int kGroup = EmbreeAccel::kPacketSize;
+  static_assert(kGroup <= kSampleLanes && kGroup <= kSplatLanes, "a group's samples fill at most one vector");
   Sampler samplers[kGroup];
   samplers[0].type = c.cfg.sampler;
   samplers[0].set_samples_per_pixel(uint32_t(c.cfg.spp));
   Ray camera_rays[kGroup];
   Vec2 film_pos[kGroup];
-  SampledWavelengths lambdas[kGroup];
+  SampledWavelengths lambdas[kGroup]{};  // every lane initialised: the vector stages read all
   HitRecord primary[kGroup];
   bool primary_found[kGroup];
+  PathOutput outs[kGroup];
+  Vec3 rgb[kGroup];
+  float beauty[kGroup][4];
+  const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
   for (uint32_t g0 = s0; g0 < s1; g0 += kGroup) {
     const int n = int(std::min<uint32_t>(kGroup, s1 - g0));
-    for (int k = 0; k < n; ++k) {
-      // Copies of the first sampler share its per-pixel state (ZSobol's block and seed).
-      if (k > 0) samplers[k] = samplers[0];
-      camera_rays[k] = camera_sample(c, x, y, g0 + uint32_t(k), samplers[k], &film_pos[k], &lambdas[k]);
+    if (start_pixel_samples_lanes(samplers, n, x, y, g0, c.cfg.seed)) {
+      camera_rays_lanes(sv.camera, sv.wavelengths, splat, c.cfg.filter, x, y, samplers, n, camera_rays, film_pos,
+                        lambdas);
+    } else {
+      for (int k = 0; k < n; ++k) {
+        // Copies of the first sampler share its per-pixel state (ZSobol's block and seed).
+        if (k > 0) samplers[k] = samplers[0];
+        camera_rays[k] = camera_sample(c, x, y, g0 + uint32_t(k), samplers[k], &film_pos[k], &lambdas[k]);
+      }
     }
     intersect_camera_rays(accel, camera_rays, n, primary, primary_found);
     for (int k = 0; k < n; ++k) {
-      render_path(c, accel, x, y, g0 + uint32_t(k), camera_rays[k], film_pos[k], lambdas[k], samplers[k],
-                  primary[k], primary_found[k], px, aov, rays);
+      outs[k] = PathOutput{};
+      trace_path(sv, accel, c.cfg.integrator, camera_rays[k], lambdas[k], samplers[k], &outs[k], &primary[k],
+                 primary_found[k]);
+      *rays += outs[k].rays;
     }
+    sample_rgb_lanes(sv, c.cfg.integrator.clamp, outs, lambdas, n, rgb);
+    for (int k = 0; k < n; ++k) finish_sample(c, x, y, g0 + uint32_t(k), rgb[k], outs[k], lambdas[k], aov, beauty[k]);
+    if (!(splat && splat_group(c.film, c.cfg.filter, x, y, film_pos, beauty, n)))
+      for (int k = 0; k < n; ++k)
+        add_beauty(c, px, film_pos[k], Vec3{beauty[k][0], beauty[k][1], beauty[k][2]}, beauty[k][3]);
   }
 }
 

@@ -1,0 +1,120 @@
+// Splatting a pixel's group of samples at once (the render loop's film stage).
+//
+// With the default filter (Gaussian, radius 2) every sample of pixel (x, y) lands on
+// pixels of the 5 × 5 window around it. Added one at a time (splat_sample) each sample
+// costs 16 updates of the film's double sums, ~400 instructions a sample with the weights.
+// Here a group of up to 8 samples, one per vector lane, is reduced per window pixel first:
+//   S(i, j) = Σ_k w_x,k(i) w_y,k(j) (r, g, b, α)_k   and   W(i, j) = Σ_k w_x,k(i) w_y,k(j),
+// in float across the lanes, then each of the 25 window pixels is updated once. The weights
+// are weight_1d's (exp_poly instead of splat_sample's two-exponential recurrence, so pixel
+// values move by float rounding, ~1e-6 relative). Host CPU code; false where it does not
+// apply (another filter or radius, no AVX2): the caller splats sample by sample.
+#pragma once
+
+#include "kauri/film/film.h"
+
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__AVX2__) && !defined(__CUDACC__)
+#define KAURI_SPLAT_LANES 1
+#include <immintrin.h>
+#else
+#define KAURI_SPLAT_LANES 0
+#endif
+
+namespace kauri {
+
+/// Samples a group splat holds at most.
+inline constexpr int kSplatLanes = 8;
+
+#if KAURI_SPLAT_LANES
+namespace film_detail {
+typedef float F32x8 __attribute__((vector_size(32)));
+typedef int32_t I32x8 __attribute__((vector_size(32)));
+
+/// exp_poly (core/math.h) over 8 lanes.
+inline F32x8 exp_poly_lanes(F32x8 x) {
+  const F32x8 n = __builtin_ia32_roundps256(x * 1.44269504f + 0.5f, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+  const I32x8 e = (__builtin_convertvector(n, I32x8) + 127) << 23;
+  F32x8 scale;  // 2^n
+  __builtin_memcpy(&scale, &e, sizeof scale);
+  return exp_poly_reduced(x, n) * scale;
+}
+
+/// Filter weights of window pixels c − 2 … c + 2 (along one axis) for the lanes' positions
+/// p: weight_1d(p − (c − 2 + i + ½)), 0 outside the support [−r, r).
+inline void window_weights(const PixelFilter& f, int c, F32x8 p, float w[5][8]) {
+  const Float a = 1 / (2 * f.sigma * f.sigma);
+  for (int i = 0; i < 5; ++i) {
+    const F32x8 d = p - (Float(c - 2 + i) + 0.5f);
+    const I32x8 inside = (d >= -f.radius) & (d < f.radius);
+    const F32x8 x = -a * d * d;  // outside the support possibly below exp_poly's range: clamped, then dropped
+    const F32x8 wi = inside ? exp_poly_lanes(x < -80 ? F32x8{} - 80 : x) : F32x8{};
+    __builtin_memcpy(w[i], &wi, sizeof wi);
+  }
+}
+
+/// (Σ a, Σ b, Σ c, Σ d) over the 8 lanes of each.
+inline __m128 lane_sums4(__m256 a, __m256 b, __m256 c, __m256 d) {
+  const __m256 ab = _mm256_hadd_ps(a, b), cd = _mm256_hadd_ps(c, d);
+  const __m256 abcd = _mm256_hadd_ps(ab, cd);  // per 128-bit half: partial sums of a, b, c, d
+  return _mm_add_ps(_mm256_castps256_ps128(abcd), _mm256_extractf128_ps(abcd, 1));
+}
+inline float lane_sum(__m256 a) {
+  __m128 s = _mm_add_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
+  s = _mm_add_ps(s, _mm_movehl_ps(s, s));
+  s = _mm_add_ss(s, _mm_movehdup_ps(s));
+  return _mm_cvtss_f32(s);
+}
+}  // namespace film_detail
+#endif
+
+/// Adds samples k < n of pixel (x, y) (film_pos[k] inside that pixel, beauty v[k] = r, g, b,
+/// α) to the film as n splat_sample calls would, up to float rounding. False, with nothing
+/// added, unless the filter is the radius-2 Gaussian and vectors are available.
+inline bool splat_group(const FilmView& film, const PixelFilter& f, int x, int y, const Vec2* film_pos,
+                        const float (*v)[4], int n) {
+#if KAURI_SPLAT_LANES
+  using namespace film_detail;
+  if (f.type != FilterType::Gaussian || f.radius != 2 || n < 1 || n > kSplatLanes) return false;
+  constexpr int kWindow = 5;  // pixels x − 2 … x + 2: the centres a radius-2 support can hold
+  if (f.radius * f.radius / (2 * f.sigma * f.sigma) > 80) return false;  // exp_poly's range inside the support
+  // Weights per window column / row and lane; lanes ≥ n, placed two radii away, weigh 0.
+  F32x8 px_pos, py_pos;
+  for (int k = 0; k < kSplatLanes; ++k) {
+    px_pos[k] = k < n ? film_pos[k].x : Float(x) + 4 * f.radius;
+    py_pos[k] = k < n ? film_pos[k].y : Float(y) + 4 * f.radius;
+  }
+  alignas(32) float wx[kWindow][kSplatLanes], wy[kWindow][kSplatLanes];
+  window_weights(f, x, px_pos, wx);
+  window_weights(f, y, py_pos, wy);
+  // The beauty's channels across the lanes (lanes ≥ n: 0).
+  alignas(32) float vc[4][kSplatLanes];
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < kSplatLanes; ++k) vc[c][k] = k < n ? v[k][c] : 0.0f;
+  const __m256 r = _mm256_load_ps(vc[0]), g = _mm256_load_ps(vc[1]), b = _mm256_load_ps(vc[2]),
+               alpha = _mm256_load_ps(vc[3]);
+  for (int j = 0; j < kWindow; ++j) {
+    const int py = y - 2 + j;
+    if (py < 0 || py >= film.height) continue;
+    const __m256 wrow = _mm256_load_ps(wy[j]);
+    for (int i = 0; i < kWindow; ++i) {
+      const int px = x - 2 + i;
+      if (px < 0 || px >= film.width) continue;
+      const __m256 w = _mm256_mul_ps(wrow, _mm256_load_ps(wx[i]));
+      const float w_sum = lane_sum(w);
+      if (w_sum == 0) continue;  // no sample reaches this pixel
+      const __m128 s = lane_sums4(_mm256_mul_ps(w, r), _mm256_mul_ps(w, g), _mm256_mul_ps(w, b),
+                                  _mm256_mul_ps(w, alpha));
+      PixelAccum& p = film.at(px, py);
+      // rgb and alpha are adjacent doubles (PixelAccum): one 4-wide double addition.
+      _mm256_storeu_pd(p.rgb, _mm256_add_pd(_mm256_loadu_pd(p.rgb), _mm256_cvtps_pd(s)));
+      p.weight += double(w_sum);
+    }
+  }
+  return true;
+#else
+  (void)film, (void)f, (void)x, (void)y, (void)film_pos, (void)v, (void)n;
+  return false;
+#endif
+}
+
+}  // namespace kauri

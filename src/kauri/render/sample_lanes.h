@@ -1,0 +1,202 @@
+// The camera and film stages of a pixel's sample group, one sample per vector lane.
+//
+// The render loop takes a pixel's samples in groups of 8 (EmbreeAccel::kPacketSize):
+// camera rays, their closest hits as one Embree packet, then each path on its own. The
+// work before and after the paths is the same for every sample and has no branches
+// worth the name, yet done one sample at a time it was ~1500 instructions a sample (a
+// callgrind profile of the hangar with every camera ray escaping): a third of the
+// hangar's render and a seventh of the Cornell box's. Here the group's 8 samples run in
+// the lanes of AVX2 vectors:
+//   - camera stage: film positions, the 4 wavelengths of each path (inverse-CDF table
+//     lookups as gathers) and pinhole rays (other cameras ray by ray);
+//   - film stage: each path's XYZ Monte Carlo weights (CIE table gathers), its direct
+//     and indirect XYZ and the RGB with the indirect clamp.
+// Every value equals the scalar functions' (camera_sample / SampledXYZWeights /
+// SceneView::to_rgb) bit for bit: the same operations in the same order, which
+// tests/cpp/test_sample_lanes.cpp checks. Host CPU code of the render loop; a CUDA build
+// runs one sample per thread through the scalar functions.
+#pragma once
+
+#include "kauri/integrator/path_state.h"
+#include "kauri/sampler/sampler_lanes.h"
+#include "kauri/scene/scene_view.h"
+#include "kauri/film/film.h"
+
+#if KAURI_SOBOL_VECTORS && defined(__AVX2__)
+#define KAURI_SAMPLE_LANES 1
+#include <immintrin.h>
+#else
+#define KAURI_SAMPLE_LANES 0
+#endif
+
+namespace kauri {
+
+/// Clamps the indirect part of a sample to luminance `clamp` (hue preserved; 0: off).
+inline Vec3 clamp_luminance(Vec3 rgb, Float y, Float clamp) {
+  if (clamp <= 0 || y <= clamp) return rgb;
+  return rgb * (clamp / y);
+}
+
+#if KAURI_SAMPLE_LANES
+namespace lanes_detail {
+using sobol_detail::F32x8;
+using sobol_detail::I32x8;
+
+inline F32x8 broadcast(Float v) { return F32x8{} + v; }
+inline F32x8 gather(const float* table, I32x8 i) {
+  __m256i idx;
+  __builtin_memcpy(&idx, &i, sizeof idx);
+  const __m256 v = _mm256_i32gather_ps(table, idx, 4);
+  F32x8 r;
+  __builtin_memcpy(&r, &v, sizeof r);
+  return r;
+}
+/// m ? a : b per lane (m: all-ones or zero lanes, as vector comparisons give).
+inline F32x8 select(I32x8 m, F32x8 a, F32x8 b) { return m ? a : b; }
+
+/// Vec3 over lanes, with the scalar operators' expression shapes (so contraction into
+/// FMAs is the same).
+struct Vec3x8 {
+  F32x8 x, y, z;
+};
+inline F32x8 dot(const Vec3x8& a, const Vec3x8& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3x8 normalize(const Vec3x8& a) {
+  const F32x8 len = __builtin_ia32_sqrtps256(dot(a, a));
+  const F32x8 r = 1 / len;
+  return {a.x * r, a.y * r, a.z * r};
+}
+/// Transform::apply.
+inline Vec3x8 apply(const Float a[3][4], const Vec3x8& v, Float w_) {
+  const F32x8 w = broadcast(w_);
+  return {a[0][0] * v.x + a[0][1] * v.y + a[0][2] * v.z + a[0][3] * w,
+          a[1][0] * v.x + a[1][1] * v.y + a[1][2] * v.z + a[1][3] * w,
+          a[2][0] * v.x + a[2][1] * v.y + a[2][2] * v.z + a[2][3] * w};
+}
+/// SceneView::to_rgb.
+inline Vec3x8 to_rgb(const Float m[3][3], const Vec3x8& xyz) {
+  return {m[0][0] * xyz.x + m[0][1] * xyz.y + m[0][2] * xyz.z, m[1][0] * xyz.x + m[1][1] * xyz.y + m[1][2] * xyz.z,
+          m[2][0] * xyz.x + m[2][1] * xyz.y + m[2][2] * xyz.z};
+}
+
+/// WavelengthDistribution::sample over lanes.
+inline F32x8 sample_wavelength(const WavelengthDistribution& d, F32x8 u, F32x8* pdf) {
+  const F32x8 t = u * Float(d.n - 1);
+  const I32x8 k = t >= Float(d.n - 2) ? I32x8{} + (d.n - 2) : __builtin_convertvector(t, I32x8);
+  const F32x8 a = gather(d.knots, k), b = gather(d.knots + 1, k);
+  *pdf = 1 / (Float(d.n - 1) * (b - a));
+  return a + (t - __builtin_convertvector(k, F32x8)) * (b - a);
+}
+
+/// cie_xyz_bar over lanes (0 outside the table).
+inline Vec3x8 cie_xyz_bar(F32x8 lambda) {
+  const F32x8 t = lambda - tables::kCieLambdaMin;
+  const Float last = Float(tables::kCieSamples - 1);
+  const I32x8 valid = (t >= 0) & ~(t > last);
+  I32x8 i = t >= last ? I32x8{} + (tables::kCieSamples - 2) : __builtin_convertvector(t, I32x8);
+  i = valid ? i : I32x8{};  // in range for the gathers; the lane is zeroed below
+  const F32x8 f = t - __builtin_convertvector(i, F32x8);
+  auto lerp8 = [&](const float* table) {
+    const F32x8 a = gather(table, i), b = gather(table + 1, i);
+    return select(valid, (1 - f) * a + f * b, F32x8{});
+  };
+  return {lerp8(tables::kCieX), lerp8(tables::kCieY), lerp8(tables::kCieZ)};
+}
+}  // namespace lanes_detail
+#endif
+
+/// The camera stage of a group: samplers s[0 … n) started by start_pixel_samples_lanes on
+/// pixel (x, y); each gets the film position, wavelengths and camera ray camera_sample
+/// would give it, and is left at the dimension camera_sample leaves it at (5: film pair,
+/// lens pair, wavelength). `splat`: film positions uniform in the pixel (else drawn from
+/// `filter` around its centre). Every array holds kSampleLanes entries, initialised;
+/// entries n … kSampleLanes − 1 of `rays` and `lambda` are overwritten with values to ignore.
+inline void camera_rays_lanes(const Camera& cam, const WavelengthDistribution& wl, bool splat, const PixelFilter& filter,
+                              int x, int y, Sampler* s, int n, Ray* rays, Vec2* film_pos, SampledWavelengths* lambda) {
+  for (int k = 0; k < n; ++k) {
+    const Vec2 u_film{s[k].batch[0], s[k].batch[kSobolBatch]};
+    film_pos[k] = splat ? Vec2{Float(x) + u_film.x, Float(y) + u_film.y}
+                        : Vec2{Float(x) + 0.5f, Float(y) + 0.5f} + filter.sample(u_film);
+    s[k].dimension = 5;
+  }
+#if KAURI_SAMPLE_LANES
+  using namespace lanes_detail;
+  // Wavelength i of each path at u + i/N (mod 1), u = the first coordinate of pair 2.
+  // Lanes ≥ n are computed and dropped: fixed trip counts let the compiler build and
+  // split the vectors in registers (with a trip count of n, lane by lane through memory).
+  F32x8 u_lambda{};
+  for (int k = 0; k < kSampleLanes; ++k) u_lambda[k] = k < n ? s[k].batch[2] : Float(0);
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    F32x8 ui = u_lambda + Float(i) / kSpectrumSamples;
+    ui = select(ui >= 1, ui - 1, ui);
+    F32x8 pdf;
+    const F32x8 l = sample_wavelength(wl, ui, &pdf);
+    for (int k = 0; k < kSampleLanes; ++k) {
+      lambda[k].lambda[i] = l[k];
+      lambda[k].pdf[i] = pdf[k];
+    }
+  }
+  if (cam.type == CameraType::Perspective && !(cam.lens_radius > 0)) {
+    F32x8 fx{}, fy{};
+    for (int k = 0; k < kSampleLanes; ++k) fx[k] = film_pos[k].x, fy[k] = film_pos[k].y;
+    const F32x8 sx = 2 * fx / Float(cam.width) - 1;
+    const F32x8 sy = 1 - 2 * fy / Float(cam.height);
+    const Vec3x8 d_cam = normalize(Vec3x8{sx * cam.tan_half_x, sy * cam.tan_half_y, broadcast(-1)});
+    const Vec3x8 d = normalize(apply(cam.camera_to_world.m, d_cam, 0));
+    const Point3 o = cam.camera_to_world.point(Point3{0, 0, 0});
+    for (int k = 0; k < kSampleLanes; ++k) {
+      rays[k] = Ray{};
+      rays[k].o = o;
+      rays[k].d = Vec3{d.x[k], d.y[k], d.z[k]};
+    }
+    return;
+  }
+#else
+  for (int k = 0; k < n; ++k) lambda[k] = sample_wavelengths(wl, s[k].batch[2]);
+#endif
+  for (int k = 0; k < n; ++k) rays[k] = cam.generate_ray(film_pos[k], Vec2{s[k].batch[1], s[k].batch[kSobolBatch + 1]});
+}
+
+/// The film stage's colour of a group: the RGB each path's output adds to the film, its
+/// direct part as is and the indirect clamped to luminance `clamp` (0: off), as the
+/// scalar render path computed it. Arrays of kSampleLanes initialised entries; rgb[n …]
+/// are to be ignored.
+inline void sample_rgb_lanes(const SceneView& sv, Float clamp, const PathOutput* out, const SampledWavelengths* lambda,
+                             int n, Vec3* rgb) {
+#if KAURI_SAMPLE_LANES
+  using namespace lanes_detail;
+  const Float norm = 1 / (Float(kSpectrumSamples) * tables::kCieYIntegral);
+  Vec3x8 direct{}, indirect{};
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    F32x8 l{}, pdf{}, L{}, Ld{};
+    for (int k = 0; k < kSampleLanes; ++k) {
+      l[k] = lambda[k].lambda[i];
+      pdf[k] = lambda[k].pdf[i];
+      L[k] = out[k].L[i];
+      Ld[k] = out[k].L_direct_first[i];
+    }
+    const I32x8 has_pdf = pdf != 0;
+    const F32x8 scale = select(has_pdf, norm / select(has_pdf, pdf, broadcast(1)), F32x8{});
+    const Vec3x8 bar = cie_xyz_bar(l);
+    const Vec3x8 c{select(has_pdf, bar.x * scale, F32x8{}), select(has_pdf, bar.y * scale, F32x8{}),
+                   select(has_pdf, bar.z * scale, F32x8{})};
+    direct = {direct.x + c.x * Ld, direct.y + c.y * Ld, direct.z + c.z * Ld};
+    indirect = {indirect.x + c.x * L, indirect.y + c.y * L, indirect.z + c.z * L};
+  }
+  const Vec3x8 d = to_rgb(sv.xyz_to_rgb, direct), ind = to_rgb(sv.xyz_to_rgb, indirect);
+  // clamp_luminance, lane by lane.
+  const I32x8 clamped = (broadcast(clamp) > 0) & ~(indirect.y <= clamp);
+  const F32x8 f = clamp / select(clamped, indirect.y, broadcast(1));
+  const Vec3x8 r{d.x + select(clamped, ind.x * f, ind.x), d.y + select(clamped, ind.y * f, ind.y),
+                 d.z + select(clamped, ind.z * f, ind.z)};
+  for (int k = 0; k < kSampleLanes; ++k) rgb[k] = Vec3{r.x[k], r.y[k], r.z[k]};
+#else
+  for (int k = 0; k < n; ++k) {
+    const SampledXYZWeights to_xyz(lambda[k]);
+    const Vec3 indirect_xyz = to_xyz(out[k].L);
+    rgb[k] = sv.to_rgb(to_xyz(out[k].L_direct_first)) +
+             clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, clamp);
+  }
+#endif
+}
+
+}  // namespace kauri
