@@ -11,10 +11,11 @@
 //     lookups as gathers) and pinhole rays (other cameras ray by ray);
 //   - film stage: each path's XYZ Monte Carlo weights (CIE table gathers), its direct
 //     and indirect XYZ and the RGB with the indirect clamp.
-// Every value equals the scalar functions' (camera_sample / SampledXYZWeights /
-// SceneView::to_rgb) bit for bit: the same operations in the same order, which
-// tests/cpp/test_sample_lanes.cpp checks. Host CPU code of the render loop; a CUDA build
-// runs one sample per thread through the scalar functions.
+// The values are the scalar functions' (camera_sample / SampledXYZWeights /
+// SceneView::to_rgb): the same operations in the same order, equal to float rounding
+// (whether GCC contracts a multiply and an add into an FMA depends on the surrounding
+// code), which tests/cpp/test_sample_lanes.cpp checks. Host CPU code of the render loop;
+// a CUDA build runs one sample per thread through the scalar functions.
 #pragma once
 
 #include "kauri/integrator/path_state.h"
