@@ -11,14 +11,10 @@
 // apply (another filter or radius, no AVX2): the caller splats sample by sample.
 #pragma once
 
+#include "kauri/core/lanes.h"
 #include "kauri/film/film.h"
 
-#if (defined(__GNUC__) || defined(__clang__)) && defined(__AVX2__) && !defined(__CUDACC__)
-#define KAURI_SPLAT_LANES 1
-#include <immintrin.h>
-#else
-#define KAURI_SPLAT_LANES 0
-#endif
+#define KAURI_SPLAT_LANES KAURI_LANES_AVX2
 
 namespace kauri {
 
@@ -27,8 +23,8 @@ inline constexpr int kSplatLanes = 8;
 
 #if KAURI_SPLAT_LANES
 namespace film_detail {
-typedef float F32x8 __attribute__((vector_size(32)));
-typedef int32_t I32x8 __attribute__((vector_size(32)));
+using lanes::F32x8;
+using lanes::I32x8;
 
 /// exp_poly (core/math.h) over 8 lanes.
 inline F32x8 exp_poly_lanes(F32x8 x) {
@@ -58,12 +54,6 @@ inline __m128 lane_sums4(__m256 a, __m256 b, __m256 c, __m256 d) {
   const __m256 abcd = _mm256_hadd_ps(ab, cd);  // per 128-bit half: partial sums of a, b, c, d
   return _mm_add_ps(_mm256_castps256_ps128(abcd), _mm256_extractf128_ps(abcd, 1));
 }
-inline float lane_sum(__m256 a) {
-  __m128 s = _mm_add_ps(_mm256_castps256_ps128(a), _mm256_extractf128_ps(a, 1));
-  s = _mm_add_ps(s, _mm_movehl_ps(s, s));
-  s = _mm_add_ss(s, _mm_movehdup_ps(s));
-  return _mm_cvtss_f32(s);
-}
 }  // namespace film_detail
 #endif
 
@@ -77,7 +67,7 @@ inline bool splat_group(const FilmView& film, const PixelFilter& f, int x, int y
   if (f.type != FilterType::Gaussian || f.radius != 2 || n < 1 || n > kSplatLanes) return false;
   constexpr int kWindow = 5;  // pixels x − 2 … x + 2: the centres a radius-2 support can hold
   if (f.radius * f.radius / (2 * f.sigma * f.sigma) > 80) return false;  // exp_poly's range inside the support
-  // Weights per window column / row and lane; lanes ≥ n, placed two radii away, weigh 0.
+  // Weights per window column / row and lane; lanes ≥ n, placed four radii away, weigh 0.
   F32x8 px_pos, py_pos;
   for (int k = 0; k < kSplatLanes; ++k) {
     px_pos[k] = k < n ? film_pos[k].x : Float(x) + 4 * f.radius;
@@ -100,7 +90,7 @@ inline bool splat_group(const FilmView& film, const PixelFilter& f, int x, int y
       const int px = x - 2 + i;
       if (px < 0 || px >= film.width) continue;
       const __m256 w = _mm256_mul_ps(wrow, _mm256_load_ps(wx[i]));
-      const float w_sum = lane_sum(w);
+      const float w_sum = _mm256_cvtss_f32(lanes::lane_sum(w));
       if (w_sum == 0) continue;  // no sample reaches this pixel
       const __m128 s = lane_sums4(_mm256_mul_ps(w, r), _mm256_mul_ps(w, g), _mm256_mul_ps(w, b),
                                   _mm256_mul_ps(w, alpha));

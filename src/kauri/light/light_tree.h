@@ -23,14 +23,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "kauri/core/lanes.h"
 #include "kauri/core/math.h"
 
-#if !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__)) && defined(__AVX2__)
-#include <immintrin.h>
-#define KAURI_LIGHT_TREE_AVX2 1
-#else
-#define KAURI_LIGHT_TREE_AVX2 0
-#endif
+#define KAURI_LIGHT_TREE_AVX2 KAURI_LANES_AVX2
 
 namespace kauri {
 
@@ -108,14 +104,6 @@ KAURI_HOST_DEVICE inline void light_tree_probs_scalar(const LightTreeNode& node,
 
 #if KAURI_LIGHT_TREE_AVX2
 static_assert(kLightTreeArity == 8, "the AVX2 steps hold a node's lanes in one 8-float register");
-namespace light_tree_detail {
-/// Σ of the 8 lanes, in every lane.
-inline __m256 lane_sum(__m256 v) {
-  v = _mm256_add_ps(v, _mm256_permute2f128_ps(v, v, 1));
-  v = _mm256_add_ps(v, _mm256_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
-  return _mm256_add_ps(v, _mm256_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
-}
-}  // namespace light_tree_detail
 #endif
 
 /// Probabilities of descending into each lane of `node` at p (zero in unused lanes).
@@ -125,7 +113,7 @@ KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, 
   light_tree_importance(node, p, imp);
 #if KAURI_LIGHT_TREE_AVX2
   const __m256 i = _mm256_load_ps(imp);
-  const __m256 sum = light_tree_detail::lane_sum(i);
+  const __m256 sum = lanes::lane_sum(i);
   const __m256 bounded = _mm256_cmp_ps(sum, _mm256_setzero_ps(), _CMP_GT_OQ);
   const __m256 a = _mm256_and_ps(bounded, _mm256_div_ps(_mm256_set1_ps(1 - kLightTreePowerShare), sum));
   const __m256 b = _mm256_blendv_ps(_mm256_set1_ps(1), _mm256_set1_ps(kLightTreePowerShare), bounded);

@@ -23,12 +23,7 @@
 #include "kauri/scene/scene_view.h"
 #include "kauri/film/film.h"
 
-#if KAURI_SOBOL_VECTORS && defined(__AVX2__)
-#define KAURI_SAMPLE_LANES 1
-#include <immintrin.h>
-#else
-#define KAURI_SAMPLE_LANES 0
-#endif
+#define KAURI_SAMPLE_LANES KAURI_LANES_AVX2
 
 namespace kauri {
 
@@ -40,8 +35,8 @@ inline Vec3 clamp_luminance(Vec3 rgb, Float y, Float clamp) {
 
 #if KAURI_SAMPLE_LANES
 namespace lanes_detail {
-using sobol_detail::F32x8;
-using sobol_detail::I32x8;
+using lanes::F32x8;
+using lanes::I32x8;
 
 inline F32x8 broadcast(Float v) { return F32x8{} + v; }
 inline F32x8 gather(const float* table, I32x8 i) {

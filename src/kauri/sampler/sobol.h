@@ -8,11 +8,8 @@
 // thread count or tile order.
 #pragma once
 
+#include "kauri/core/lanes.h"
 #include "kauri/sampler/rng.h"
-
-#if !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__)) && defined(__AVX2__)
-#include <immintrin.h>  // reverse_lane_bits
-#endif
 
 namespace kauri {
 
@@ -51,14 +48,12 @@ constexpr uint32_t reverse_bits32_constexpr(uint32_t v) {
 // The word operations below are templates over W = uint32_t or a GCC/Clang vector of
 // uint32_t (every operator is lane-wise), so the scalar path and the batched one
 // (owen_sobol_batch) share one definition.
-#if !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__))
-#define KAURI_SOBOL_VECTORS 1
-typedef uint32_t U32x4 __attribute__((vector_size(16)));
-typedef uint32_t U32x8 __attribute__((vector_size(32)));
-typedef int32_t I32x8 __attribute__((vector_size(32)));
-typedef float F32x8 __attribute__((vector_size(32)));
-#else
-#define KAURI_SOBOL_VECTORS 0
+#define KAURI_SOBOL_VECTORS KAURI_LANE_VECTORS
+#if KAURI_SOBOL_VECTORS
+using lanes::F32x8;
+using lanes::I32x8;
+using lanes::U32x4;
+using lanes::U32x8;
 #endif
 
 /// Laine–Karras style hash that acts as an Owen scramble on reversed bits
