@@ -269,5 +269,35 @@ TEST(TriangleHit, MeshWithoutUVsHasTheDefaultParameterisation) {
   }
 }
 
+// offset_ray_origin's vector form against the definition it replaces (Wächter & Binder
+// 2019), axis by axis, bit for bit: positions near the origin (the absolute offset),
+// large and negative ones (the offset in float steps), signed zeros and normals along and
+// off the axes.
+TEST(RayOffset, VectorFormMatchesTheDefinitionBitForBit) {
+  auto reference = [](Point3 p, Normal3 n) {
+    Point3 r;
+    for (int a = 0; a < 3; ++a) {
+      int32_t of_i = int32_t(256.0f * n[a]);
+      float pi = bits_as_float(uint32_t(int32_t(float_as_bits(p[a])) + (p[a] < 0 ? -of_i : of_i)));
+      r[a] = std::fabs(p[a]) < 1.0f / 32 ? p[a] + (1.0f / 65536) * n[a] : pi;
+    }
+    return r;
+  };
+  PCG32 rng(7, 11);
+  std::vector<Point3> points = {{0, 0, 0}, {-0.0f, 0.0f, -0.0f}, {1.0f / 32, -1.0f / 32, 0.03f}, {1e6f, -1e6f, 3e-8f}};
+  std::vector<Normal3> normals = {{0, 0, 1}, {0, -1, 0}, {-1, 0, 0}, normalize(Vec3{1, 1, 1})};
+  for (int i = 0; i < 4000; ++i) {
+    const Float scale = std::pow(10.0f, 8 * rng.next_float() - 4);  // 1e-4 … 1e4
+    points.push_back(Point3{rng.next_float() - 0.5f, rng.next_float() - 0.5f, rng.next_float() - 0.5f} * scale);
+    normals.push_back(sample_uniform_sphere({rng.next_float(), rng.next_float()}));
+  }
+  for (size_t i = 0; i < points.size(); ++i)
+    for (size_t j = i % normals.size(); j < normals.size(); j += 997) {
+      const Point3 got = offset_ray_origin(points[i], normals[j]), want = reference(points[i], normals[j]);
+      for (int a = 0; a < 3; ++a)
+        ASSERT_EQ(float_as_bits(got[a]), float_as_bits(want[a])) << "point " << i << " normal " << j << " axis " << a;
+    }
+}
+
 }  // namespace
 }  // namespace kauri

@@ -1,7 +1,7 @@
 // Vector lanes on the CPU, declared once: GCC/Clang vector types (every operator works lane
 // by lane, so word and float code can be written once for a scalar and for 8 lanes) and the
 // AVX2 steps across lanes that the compiler does not find by itself. Users: the Sobol'
-// sampler's batches, the light tree's 8-wide nodes, the render loop's sample groups and
+// sampler's batches, the ray origins' offset (x, y, z in one vector), the light tree's 8-wide nodes, the render loop's sample groups and
 // their splat. Host CPU code only; a CUDA build runs one lane per thread without these.
 #pragma once
 
@@ -11,6 +11,8 @@
 #define KAURI_LANE_VECTORS 1
 namespace kauri::lanes {
 typedef uint32_t U32x4 __attribute__((vector_size(16)));
+typedef int32_t I32x4 __attribute__((vector_size(16)));
+typedef float F32x4 __attribute__((vector_size(16)));
 typedef uint32_t U32x8 __attribute__((vector_size(32)));
 typedef int32_t I32x8 __attribute__((vector_size(32)));
 typedef float F32x8 __attribute__((vector_size(32)));
