@@ -149,6 +149,49 @@ TEST(BSDF, SingleLobeSampleReturnsEvalAndPdf) {
   }
 }
 
+// A lone Lambert lobe takes BSDF::eval_pdf's and sample's inline path; the general code
+// (eval_pdf_lobes, sample_lobes) must give the same values: weights below 1, tinted; ω_o
+// in front and behind; ω_i on either side; a shading normal tilted off the geometric one
+// (the leak correction); grazing and sampled directions. The same operations in the same
+// order, but GCC may fuse a multiply-add in one inlined copy and not in the other
+// (-ffp-contract=fast), so values agree to a few ulps, zeros and sides exactly.
+TEST(BSDF, LoneLambertFastPathMatchesTheGeneralCode) {
+  const Frame tilted = Frame::from_z(normalize(Vec3{0.3f, -0.2f, 0.9f}));
+  PCG32 rng(5, 3);
+  int compared = 0;
+  for (int f = 0; f < 2; ++f)
+    for (SampledSpectrum w : {SampledSpectrum(1.0f), spectrum4(0.9f, 0.6f, 0.3f, 0.05f)}) {
+      BSDF b;
+      b.frame = f ? tilted : Frame{};
+      b.ng = {0, 0, 1};
+      b.add(Lobe(lambert(spectrum4(0.2f, 0.5f, 0.8f, 1.0f))), w);
+      b.prepare({0, 0, 1});
+      ASSERT_TRUE(b.lone_lambert());
+      for (int i = 0; i < 400; ++i) {
+        const Vec3 wo = sample_uniform_sphere({rng.next_float(), rng.next_float()});
+        Vec3 wi = sample_uniform_sphere({rng.next_float(), rng.next_float()});
+        if (i % 50 == 0) wi = normalize(Vec3{1, 0, 1e-7f});  // grazing
+        Float p_fast, p_general;
+        SampledSpectrum e_fast = b.eval_pdf(wo, wi, TransportMode::Radiance, &p_fast);
+        SampledSpectrum e_general = b.eval_pdf_lobes(wo, wi, TransportMode::Radiance, &p_general);
+        auto close = [](Float a, Float b) { return a == b || std::fabs(a - b) <= 4e-7f * std::fabs(b); };
+        ASSERT_PRED2(close, p_fast, p_general) << "pdf, case " << i;
+        for (int k = 0; k < kSpectrumSamples; ++k) ASSERT_PRED2(close, e_fast[k], e_general[k]) << "eval, case " << i;
+        const Vec2 u{rng.next_float(), rng.next_float()};
+        SampledWavelengths lambda = SampledWavelengths::sample_visible(0.5f);
+        BSDFSample s_fast = b.sample(wo, 0.5f, u, lambda, TransportMode::Radiance);
+        BSDFSample s_general = b.sample_lobes(wo, 0.5f, u, lambda, TransportMode::Radiance);
+        ASSERT_PRED2(close, s_fast.pdf, s_general.pdf) << "sample pdf, case " << i;
+        ASSERT_EQ(s_fast.scattering, s_general.scattering);
+        for (int a = 0; a < 3; ++a)
+          ASSERT_NEAR(s_fast.wi[a], s_general.wi[a], 4e-7f) << "sample direction, case " << i;
+        for (int k = 0; k < kSpectrumSamples; ++k) ASSERT_PRED2(close, s_fast.f[k], s_general.f[k]) << "sample f, case " << i;
+        compared += s_fast.valid() && !s_fast.f.is_black() ? 1 : 0;
+      }
+    }
+  EXPECT_GT(compared, 1000);  // most cases sampled a direction with a non-zero value
+}
+
 // ---------------------------------------------------------------- energy
 
 TEST(LambertLobe, AlbedoEqualsRho) {

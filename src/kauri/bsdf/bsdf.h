@@ -84,9 +84,21 @@ struct BSDF {
     for (int i = 0; i < n_lobes; ++i) p += select_prob[i] * lobes[i].pdf(wo, wi);
     return p;
   }
+  /// A lone Lambert lobe, the most common BSDF: eval_pdf() and sample() take it inline
+  /// (lone_lambert_*), with the general code's operations in its order, so bit for bit
+  /// what the general code gives. Out of line, the dispatch over every lobe kind cost ~50
+  /// instructions of register saves a call.
+  KAURI_HOST_DEVICE bool lone_lambert() const { return n_lobes == 1 && lobes[0].type == LobeType::Lambert; }
+
   /// eval() and pdf() of one direction pair in one pass (next-event estimation needs both),
   /// sharing each lobe's common terms.
-  KAURI_HOST_DEVICE SampledSpectrum eval_pdf(Vec3 wo_world, Vec3 wi_world, TransportMode mode, Float* pdf_out) const {
+  KAURI_HOST_DEVICE KAURI_FORCE_INLINE SampledSpectrum eval_pdf(Vec3 wo_world, Vec3 wi_world, TransportMode mode,
+                                                                Float* pdf_out) const {
+    if (lone_lambert()) return lone_lambert_eval_pdf(wo_world, wi_world, pdf_out);
+    return eval_pdf_lobes(wo_world, wi_world, mode, pdf_out);
+  }
+  KAURI_HOST_DEVICE SampledSpectrum eval_pdf_lobes(Vec3 wo_world, Vec3 wi_world, TransportMode mode,
+                                                   Float* pdf_out) const {
     Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
     SampledSpectrum f(0);
     Float p = 0;
@@ -102,8 +114,13 @@ struct BSDF {
     return f * shading_normal_correction(wo_world, wi_world, wo, wi);
   }
   /// `uc` picks the lobe (and is reused, rescaled, for the lobe's own discrete choice).
-  KAURI_HOST_DEVICE BSDFSample sample(Vec3 wo_world, Float uc, Vec2 u, SampledWavelengths& lambda,
-                                      TransportMode mode) const {
+  KAURI_HOST_DEVICE KAURI_FORCE_INLINE BSDFSample sample(Vec3 wo_world, Float uc, Vec2 u, SampledWavelengths& lambda,
+                                                         TransportMode mode) const {
+    if (lone_lambert()) return lone_lambert_sample(wo_world, u, lambda);
+    return sample_lobes(wo_world, uc, u, lambda, mode);
+  }
+  KAURI_HOST_DEVICE BSDFSample sample_lobes(Vec3 wo_world, Float uc, Vec2 u, SampledWavelengths& lambda,
+                                            TransportMode mode) const {
     BSDFSample none;
     if (n_lobes == 0) return none;
     Vec3 wo = frame.to_local(wo_world);
@@ -140,6 +157,31 @@ struct BSDF {
         s.pdf += select_prob[i] * p_i;
       }
     }
+    s.f *= shading_normal_correction(wo_world, wi_world, wo, s.wi);
+    s.wi = wi_world;
+    return s;
+  }
+
+  /// eval_pdf_lobes() of a lone Lambert lobe: f = ρ/π · w_0 and p = cosθ_i/π · P_0 when
+  /// ω_i is on ω_o's side, else 0.
+  KAURI_HOST_DEVICE SampledSpectrum lone_lambert_eval_pdf(Vec3 wo_world, Vec3 wi_world, Float* pdf_out) const {
+    const Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
+    const bool same = same_hemisphere(wo, wi);
+    *pdf_out = select_prob[0] * (same ? cosine_hemisphere_pdf(abs_cos_theta(wi)) : Float(0));
+    if (wo.z == 0 || !same) return SampledSpectrum(0);
+    return lobes[0].lambert.albedo * kInvPi * weight[0] * shading_normal_correction(wo_world, wi_world, wo, wi);
+  }
+  /// sample_lobes() of a lone Lambert lobe (its weight's factor t = 1: the lobe samples
+  /// ω_o's side).
+  KAURI_HOST_DEVICE BSDFSample lone_lambert_sample(Vec3 wo_world, Vec2 u, SampledWavelengths& lambda) const {
+    BSDFSample none;
+    const Vec3 wo = frame.to_local(wo_world);
+    if (wo.z == 0 || select_prob[0] <= 0) return none;
+    BSDFSample s = lobes[0].lambert.sample(wo, 0, u, lambda, TransportMode::Radiance);
+    if (!s.valid() || s.wi.z == 0) return none;
+    const Vec3 wi_world = frame.to_world(s.wi);
+    s.f *= weight[0];
+    s.pdf *= select_prob[0];
     s.f *= shading_normal_correction(wo_world, wi_world, wo, s.wi);
     s.wi = wi_world;
     return s;

@@ -15,6 +15,16 @@
 #endif
 
 #define KAURI_INLINE inline
+/// Inlined whatever the compiler's size budget says: small fast paths in front of large
+/// general functions (BSDF::eval_pdf and sample for a lone Lambert lobe), which the
+/// budget would otherwise leave out of line with the general code's prologue.
+#if defined(__CUDACC__)
+#define KAURI_FORCE_INLINE __forceinline__
+#elif defined(__GNUC__)
+#define KAURI_FORCE_INLINE inline __attribute__((always_inline))
+#else
+#define KAURI_FORCE_INLINE inline
+#endif
 
 namespace kauri {
 
