@@ -179,8 +179,9 @@ KAURI_HOST_DEVICE inline Float area_to_solid_angle(Float pdf_area, Point3 p, Poi
   return c > 0 ? pdf_area * d2 / c : 0;
 }
 
-/// `cache`: the path's EmissionCache (null: Le evaluated afresh).
-KAURI_HOST_DEVICE LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda,
+/// `cache`: the path's EmissionCache (null: Le evaluated afresh). Triangle lights (every
+/// mesh emitter) are sampled inline; the other kinds in sample_light_other.
+KAURI_HOST_DEVICE KAURI_FORCE_INLINE LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda,
                                            LightDensity density = LightDensity::Complete,
                                            EmissionCache* cache = nullptr);
 KAURI_HOST_DEVICE Float light_pdf(const Light& l, Point3 p, Vec3 wi, Point3 p_light, Normal3 n_light,

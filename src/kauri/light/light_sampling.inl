@@ -94,8 +94,11 @@ KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u
 
 }  // namespace light_detail
 
-KAURI_HOST_DEVICE inline LightSample sample_light(const Light& l, Point3 p, Vec2 u, const SampledWavelengths& lambda,
-                                                  LightDensity density, EmissionCache* cache) {
+/// sample_light() of any kind of light. Out of line, its dispatch cost a triangle light's
+/// sample ~45 instructions of call, register saves and switch (a Cornell box render's 1.5%).
+KAURI_HOST_DEVICE inline LightSample sample_light_other(const Light& l, Point3 p, Vec2 u,
+                                                        const SampledWavelengths& lambda, LightDensity density,
+                                                        EmissionCache* cache) {
   LightSample s;
   switch (l.type) {
     case LightType::Point:
@@ -141,6 +144,13 @@ KAURI_HOST_DEVICE inline LightSample sample_light(const Light& l, Point3 p, Vec2
     case LightType::EnvMap: return light_detail::sample_env(l, p, u, lambda, density);
   }
   return s;
+}
+
+KAURI_HOST_DEVICE KAURI_FORCE_INLINE LightSample sample_light(const Light& l, Point3 p, Vec2 u,
+                                                              const SampledWavelengths& lambda, LightDensity density,
+                                                              EmissionCache* cache) {
+  if (l.type == LightType::Triangle) return light_detail::sample_area(l, p, u, lambda, cache);
+  return sample_light_other(l, p, u, lambda, density, cache);
 }
 
 /// Solid-angle density with which sample_light() would have produced direction
