@@ -83,8 +83,10 @@ struct SceneView {
   }
 };
 
-/// Turns an accelerator hit into world-space surface geometry.
-KAURI_HOST_DEVICE inline SurfaceHit compute_surface_hit(const SceneView& s, const Ray& ray, const HitRecord& h) {
+/// Turns an accelerator hit into world-space surface geometry. Inlined into the path loop
+/// (its one caller): out of line, the call, register saves and the SurfaceHit returned
+/// through memory were ~45 of its ~250 instructions a hit.
+KAURI_HOST_DEVICE KAURI_FORCE_INLINE SurfaceHit compute_surface_hit(const SceneView& s, const Ray& ray, const HitRecord& h) {
   SurfaceHit sh;
   int inst = h.inst == ~0u ? 0 : int(h.inst) - s.n_root_shapes + 1;
   const InstanceView& I = s.instances[inst];
