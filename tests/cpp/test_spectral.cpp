@@ -338,6 +338,26 @@ TEST(Spectral, BlackbodyPeak) {
 }
 
 // ---------------------------------------------------------------- misc
+// Spectrum::sample (an RGB reflectance inline, the other kinds dispatched) gives every
+// kind's value at each of the path's wavelengths, as operator() one wavelength at a time.
+TEST(Spectral, SampleOfEveryKindMatchesPointEvaluation) {
+  static const float table[5] = {0.1f, 0.4f, 0.9f, 0.3f, 0.2f};
+  const DenselySampled dense{table, 380.0f, 100.0f, 5};
+  const SigmoidPolynomial poly{-2e-4f, 0.2f, -45.0f};
+  const Spectrum kinds[] = {Spectrum::make_constant(0.3f), Spectrum::make_dense(dense),
+                            Spectrum::make_rgb_albedo(poly), Spectrum::make_rgb_unbounded(poly, 2.5f),
+                            Spectrum::make_rgb_illuminant(poly, 1.5f, dense), Spectrum::make_blackbody(3200, 2)};
+  for (const Spectrum& s : kinds)
+    for (Float u : {0.0f, 0.31f, 0.77f}) {
+      const SampledWavelengths lambda = SampledWavelengths::sample_visible(u);
+      const SampledSpectrum v = s.sample(lambda);
+      for (int i = 0; i < kSpectrumSamples; ++i) {
+        const Float want = s(lambda.lambda[i]);
+        EXPECT_NEAR(v[i], want, 1e-6f * std::fabs(want) + 1e-12f) << "kind " << int(s.type) << " wavelength " << i;
+      }
+    }
+}
+
 TEST(Spectral, DenselySampledInterpolatesAndIsZeroOutside) {
   const float v[3] = {1, 3, 5};
   DenselySampled d{v, 400, 10, 3};

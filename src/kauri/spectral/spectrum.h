@@ -135,7 +135,13 @@ struct Spectrum {
     return 0;
   }
 
-  KAURI_HOST_DEVICE SampledSpectrum sample(const SampledWavelengths& w) const {
+  /// `*this` at the path's wavelengths. An RGB reflectance (every RGB albedo) inline; the
+  /// other kinds in sample_other.
+  KAURI_HOST_DEVICE KAURI_FORCE_INLINE SampledSpectrum sample(const SampledWavelengths& w) const {
+    if (type == SpectrumType::RGBAlbedo) return sample_sigmoid(rgb.poly, w);
+    return sample_other(w);
+  }
+  KAURI_HOST_DEVICE SampledSpectrum sample_other(const SampledWavelengths& w) const {
     SampledSpectrum s;
     // One dispatch for all wavelengths (the common kinds are evaluated inline).
     switch (type) {
