@@ -19,11 +19,16 @@ struct DenselySampled {
   Float step;
   int count;
 
+  /// Branch-free (selects, not jumps), so sample_dense's loop over the wavelengths has no
+  /// unpredictable branches: each RGB light's emission and each environment lookup reads
+  /// the illuminant at 4 wavelengths.
   KAURI_HOST_DEVICE Float operator()(Float lambda) const {
-    Float t = (lambda - lambda_min) / step;
-    if (!(t >= 0) || t > Float(count - 1)) return 0;
-    int i = t >= Float(count - 1) ? count - 2 : int(t);
-    return lerp(t - Float(i), values[i], values[i + 1]);
+    const Float t = (lambda - lambda_min) / step;
+    const bool inside = t >= 0 && t <= Float(count - 1);  // false for NaN
+    const Float tc = inside ? t : Float(0);
+    const int i = int(tc) < count - 2 ? int(tc) : count - 2;  // the last knot: the last interval's end
+    const Float v = lerp(tc - Float(i), values[i], values[i + 1]);
+    return inside ? v : Float(0);
   }
 };
 
