@@ -102,6 +102,45 @@ TEST(Sampling, UniformDisk) {
   }
 }
 
+// atan2_poly and acos_poly (the lat-long and sphere uv mappings) against double-precision
+// atan2 and acos: every octant and quadrant, both signs of zero, the fold at tan(π/8),
+// angles near ±π (where the result changes sign) and arguments of very different scales.
+// Within 4e-7 absolute: about an ulp of the result near π.
+TEST(Sampling, PolynomialAtan2AndAcosMatchTheLibrary) {
+  PCG32 rng(9, 4);
+  double worst = 0;
+  auto check = [&](Float y, Float x) {
+    const double want = std::atan2(double(y), double(x)), got = double(atan2_poly(y, x));
+    worst = std::max(worst, std::fabs(got - want));
+    ASSERT_NEAR(got, want, 4e-7) << "atan2(" << y << ", " << x << ")";
+  };
+  for (int i = 0; i <= 4096; ++i) {
+    const double t = -kPiD + 2 * kPiD * i / 4096;
+    check(Float(std::sin(t)), Float(std::cos(t)));
+    check(Float(1e-20 * std::sin(t)), Float(1e-20 * std::cos(t)));
+    check(Float(3e18 * std::sin(t)), Float(3e18 * std::cos(t)));
+  }
+  for (int i = 0; i < 200000; ++i) check(2 * rng.next_float() - 1, 2 * rng.next_float() - 1);
+  for (Float r : {0.41421354f, 0.41421356f, 0.41421358f}) {  // both sides of the fold
+    check(r, 1);
+    check(1, r);
+    check(-r, -1);
+  }
+  check(0.0f, 1.0f);
+  check(-0.0f, -1.0f);  // −π
+  check(0.0f, -1.0f);   // +π
+  check(1e-30f, -1.0f);
+  EXPECT_EQ(atan2_poly(0, 0), 0);
+  EXPECT_LT(worst, 4e-7);  // ~1.5 ulp of π: the folds π/2 − a and π − a round once more
+  std::printf("atan2_poly: worst absolute error %.3g\n", worst);
+  for (int i = -20000; i <= 20000; ++i) {
+    const Float x = Float(i) / 20000;
+    ASSERT_NEAR(double(acos_poly(x)), std::acos(double(x)), 4e-7) << x;
+  }
+  EXPECT_EQ(acos_poly(1.5f), 0);  // clamped
+  EXPECT_NEAR(double(acos_poly(-1.5f)), kPiD, 4e-7);
+}
+
 TEST(Sampling, CosineHemisphere) {
   SphereChi2Config cfg;
   cfg.name = "cosine hemisphere";

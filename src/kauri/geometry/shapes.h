@@ -65,9 +65,9 @@ struct SurfaceHit {
 };
 
 KAURI_HOST_DEVICE inline Vec2 sphere_uv(Vec3 n_local) {
-  Float phi = std::atan2(n_local.y, n_local.x);
+  Float phi = atan2_poly(n_local.y, n_local.x);
   if (phi < 0) phi += 2 * kPi;
-  return {phi * kInv2Pi, safe_acos(n_local.z) * kInvPi};
+  return {phi * kInv2Pi, acos_poly(n_local.z) * kInvPi};
 }
 
 /// Fills `s` (in the shape's object space) for a hit on triangle `prim` at barycentrics (u, v).
@@ -120,7 +120,7 @@ KAURI_HOST_DEVICE inline void disk_hit(const DiskShape& d, const Ray& r, Float t
   if (need_uv) {
     Vec3 l = f.to_local(off);
     Float rr = std::sqrt(l.x * l.x + l.y * l.y) / d.radius;
-    Float phi = std::atan2(l.y, l.x);
+    Float phi = atan2_poly(l.y, l.x);
     if (phi < 0) phi += 2 * kPi;
     s->uv = {phi * kInv2Pi, rr};
   }

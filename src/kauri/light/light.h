@@ -73,9 +73,9 @@ struct Light {
 // ---- Environment mapping: lat-long with +Y up, u = atan2(x, −z)/2π, v = acos(y)/π
 // (the convention Mitsuba 3 uses, so scenes translate one to one).
 KAURI_HOST_DEVICE inline Vec2 direction_to_latlong(Vec3 d) {
-  Float u = std::atan2(d.x, -d.z) * kInv2Pi;
+  Float u = atan2_poly(d.x, -d.z) * kInv2Pi;
   if (u < 0) u += 1;
-  return {u, safe_acos(d.y) * kInvPi};
+  return {u, acos_poly(d.y) * kInvPi};
 }
 KAURI_HOST_DEVICE inline Vec3 latlong_to_direction(Vec2 uv) {
   Float phi = uv.x * 2 * kPi, theta = uv.y * kPi;
