@@ -199,8 +199,16 @@ KAURI_HOST_DEVICE inline void build_single_lobe(const MaterialView& m, const Lob
   bsdf->n_lobes = 0;
   const Float w = clamp(node_weights[m.first_weight].eval(sp.attrs), 0, 1);
   if (!(w > 0)) return;
-  Lobe* l = new (&bsdf->lobes[0]) Lobe(instantiate(p, sp, lambda));
-  if (l->type == LobeType::GGXConductor) l->conductor.cache_multiple_scattering();
+  if (p.type == LobeType::Lambert) {
+    // The most common lobe, without instantiate()'s dispatch over every kind (out of line
+    // in the profiled build: ~45 instructions a hit). The same albedo as instantiate().
+    LambertLobe lambert;
+    lambert.albedo = p.a_texture < 0 ? p.a.sample(lambda) : sp.textures[p.a_texture].albedo(sp.uv, lambda);
+    new (&bsdf->lobes[0]) Lobe(lambert);
+  } else {
+    Lobe* l = new (&bsdf->lobes[0]) Lobe(instantiate(p, sp, lambda));
+    if (l->type == LobeType::GGXConductor) l->conductor.cache_multiple_scattering();
+  }
   bsdf->weight[0] = SampledSpectrum(w);
   bsdf->transmission[0] = 1;
   bsdf->select_prob[0] = 1;  // prepare() of one lobe
