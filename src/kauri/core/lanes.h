@@ -1,8 +1,9 @@
 // Vector lanes on the CPU, declared once: GCC/Clang vector types (every operator works lane
 // by lane, so word and float code can be written once for a scalar and for 8 lanes) and the
 // AVX2 steps across lanes that the compiler does not find by itself. Users: the Sobol'
-// sampler's batches, the ray origins' offset (x, y, z in one vector), the light tree's 8-wide nodes, the render loop's sample groups and
-// their splat. Host CPU code only; a CUDA build runs one lane per thread without these.
+// sampler's batches, the ray origins' offset (x, y, z in one vector), the light tree's
+// 8-wide nodes, the render loop's sample groups and their splat. Host CPU code only; a
+// CUDA build runs one lane per thread without these.
 #pragma once
 
 #include <cstdint>

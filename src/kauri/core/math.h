@@ -15,7 +15,7 @@ KAURI_HOST_DEVICE inline Float safe_sqrt(Float x) { return std::sqrt(x > 0 ? x :
 KAURI_HOST_DEVICE inline Float safe_acos(Float x) { return std::acos(clamp(x, -1, 1)); }
 KAURI_HOST_DEVICE inline Float safe_asin(Float x) { return std::asin(clamp(x, -1, 1)); }
 
-/// atan2(y, x) in (−π, π] without a library call, to ~1e-7 absolute: the ratio
+/// atan2(y, x) in [−π, π] (−π for y = −0, x < 0, as libm) without a library call, to ~1e-7 absolute: the ratio
 /// min(|x|, |y|) / max(|x|, |y|) ∈ [0, 1], folded to |z| ≤ tan(π/8) by
 /// atan r = π/4 + atan((r − 1)/(r + 1)), then atan z = z + z³ P(z²) with P of degree 4,
 /// fitted here (weighted least squares, max error 1.8e-8 on [0, tan π/8]); the octant

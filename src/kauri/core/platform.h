@@ -16,8 +16,9 @@
 
 #define KAURI_INLINE inline
 /// Inlined whatever the compiler's size budget says: small fast paths in front of large
-/// general functions (BSDF::eval_pdf and sample for a lone Lambert lobe), which the
-/// budget would otherwise leave out of line with the general code's prologue.
+/// general functions (a lone Lambert lobe in BSDF::eval_pdf and sample, triangle lights
+/// in sample_light, RGB reflectances in Spectrum::sample), which the budget would
+/// otherwise leave out of line with the general code's prologue (docs/developing.md).
 #if defined(__CUDACC__)
 #define KAURI_FORCE_INLINE __forceinline__
 #elif defined(__GNUC__)
