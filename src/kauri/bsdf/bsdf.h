@@ -162,14 +162,15 @@ struct BSDF {
     return s;
   }
 
-  /// eval_pdf_lobes() of a lone Lambert lobe: f = ρ/π · w_0 and p = cosθ_i/π · P_0 when
-  /// ω_i is on ω_o's side, else 0.
+  /// eval_pdf_lobes() of a lone Lambert lobe: the lobe's own eval and pdf, times its
+  /// weight and selection probability (its transmission scale never applies: a Lambert lobe
+  /// is 0 off ω_o's side).
   KAURI_HOST_DEVICE SampledSpectrum lone_lambert_eval_pdf(Vec3 wo_world, Vec3 wi_world, Float* pdf_out) const {
     const Vec3 wo = frame.to_local(wo_world), wi = frame.to_local(wi_world);
-    const bool same = same_hemisphere(wo, wi);
-    *pdf_out = select_prob[0] * (same ? cosine_hemisphere_pdf(abs_cos_theta(wi)) : Float(0));
-    if (wo.z == 0 || !same) return SampledSpectrum(0);
-    return lobes[0].lambert.albedo * kInvPi * weight[0] * shading_normal_correction(wo_world, wi_world, wo, wi);
+    const LambertLobe& l = lobes[0].lambert;
+    *pdf_out = select_prob[0] * l.pdf(wo, wi);
+    if (wo.z == 0) return SampledSpectrum(0);
+    return l.eval(wo, wi, TransportMode::Radiance) * weight[0] * shading_normal_correction(wo_world, wi_world, wo, wi);
   }
   /// sample_lobes() of a lone Lambert lobe (its weight's factor t = 1: the lobe samples
   /// ω_o's side).

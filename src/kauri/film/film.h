@@ -52,6 +52,13 @@ struct PixelFilter {
   KAURI_HOST_DEVICE int margin() const { return int(std::ceil(radius - 0.5f)); }
 };
 
+/// Film position of a sample of pixel (x, y) from its film pair `u`: uniform in the pixel
+/// when splatting (the filter weights the splat), else ∝ the filter around the pixel
+/// centre (filter importance sampling: weight 1 for this pixel).
+KAURI_HOST_DEVICE inline Vec2 sample_film_position(bool splat, const PixelFilter& f, int x, int y, Vec2 u) {
+  return splat ? Vec2{Float(x) + u.x, Float(y) + u.y} : Vec2{Float(x) + 0.5f, Float(y) + 0.5f} + f.sample(u);
+}
+
 /// Running beauty sums for one pixel (double sums keep long renders exact enough): the
 /// 40 bytes every splat touches, apart from the data AOVs (PixelAOVAccum) so that a
 /// splat's ~16 pixels span 16 small records instead of 16 cache lines and more, and rgb

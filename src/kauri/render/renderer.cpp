@@ -139,12 +139,8 @@ Ray camera_sample(const TileContext& c, int x, int y, uint32_t s, Sampler& sampl
                   SampledWavelengths* lambda) {
   const SceneView& sv = c.scene.view();
   sampler.start_pixel_sample(x, y, s, c.cfg.seed);
-  // Splatting: uniform in the pixel, the filter weights the splat; filter importance
-  // sampling: ∝ the filter around the centre, weight 1 for this pixel.
-  Vec2 u_film = sampler.get_2d();
-  *film_pos = c.cfg.reconstruction == FilmReconstruction::Splat
-                  ? Vec2{Float(x) + u_film.x, Float(y) + u_film.y}
-                  : Vec2{Float(x) + 0.5f, Float(y) + 0.5f} + c.cfg.filter.sample(u_film);
+  *film_pos =
+      sample_film_position(c.cfg.reconstruction == FilmReconstruction::Splat, c.cfg.filter, x, y, sampler.get_2d());
   Vec2 u_lens;
   if (sv.camera.lens_radius > 0) u_lens = sampler.get_2d();
   else sampler.skip_2d();  // a pinhole needs no lens sample

@@ -140,9 +140,7 @@ inline Vec3x8 cie_xyz_bar(F32x8 lambda) {
 inline void camera_rays_lanes(const Camera& cam, const WavelengthDistribution& wl, bool splat, const PixelFilter& filter,
                               int x, int y, Sampler* s, int n, Ray* rays, Vec2* film_pos, SampledWavelengths* lambda) {
   for (int k = 0; k < n; ++k) {
-    const Vec2 u_film{s[k].batch[0], s[k].batch[kSobolBatch]};
-    film_pos[k] = splat ? Vec2{Float(x) + u_film.x, Float(y) + u_film.y}
-                        : Vec2{Float(x) + 0.5f, Float(y) + 0.5f} + filter.sample(u_film);
+    film_pos[k] = sample_film_position(splat, filter, x, y, Vec2{s[k].batch[0], s[k].batch[kSobolBatch]});
     s[k].dimension = 5;
   }
 #if KAURI_SAMPLE_LANES

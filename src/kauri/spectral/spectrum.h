@@ -146,14 +146,14 @@ struct Spectrum {
     if (type == SpectrumType::RGBAlbedo) return sample_sigmoid(rgb.poly, w);
     return sample_other(w);
   }
+ private:
+  /// sample() of every kind but RGBAlbedo (which sample() takes inline).
   KAURI_HOST_DEVICE SampledSpectrum sample_other(const SampledWavelengths& w) const {
     SampledSpectrum s;
     // One dispatch for all wavelengths (the common kinds are evaluated inline).
     switch (type) {
       case SpectrumType::Constant:
         return SampledSpectrum(constant);
-      case SpectrumType::RGBAlbedo:
-        return sample_sigmoid(rgb.poly, w);
       case SpectrumType::RGBUnbounded:
         return sample_sigmoid(rgb.poly, w) * rgb.scale;
       case SpectrumType::RGBIlluminant:  // every RGB light and environment
@@ -166,7 +166,6 @@ struct Spectrum {
     }
   }
 
- private:
   KAURI_HOST_DEVICE static Spectrum make_rgb(SpectrumType t, SigmoidPolynomial p, Float scale,
                                              DenselySampled illuminant) {
     Spectrum s;
