@@ -186,6 +186,34 @@ TEST(FilmSplat, GroupSplatEqualsSampleBySample) {
   for (const PixelAccum& p : film.px) EXPECT_EQ(p.weight, 0);
 }
 
+TEST(FilmSplat, GroupAlphaNeverExceedsItsWeight) {
+  // A sample's alpha is 0 or 1, so a pixel's Σ w α must not exceed its Σ w, in float as in
+  // reals: alpha = Σ w α / Σ w would otherwise land an ulp above 1 (the weight summed over
+  // the lanes in another order than the products did that). All-1 groups: equal bit for bit.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  const PixelFilter f;
+  const int w = 7, h = 7;
+  for (int trial = 0; trial < 400; ++trial) {
+    TestFilm film(w, h);
+    Vec2 pos[kSplatLanes];
+    float v[kSplatLanes][4];
+    const bool all_hit = trial % 2 == 0;
+    for (int k = 0; k < kSplatLanes; ++k) {
+      pos[k] = {3 + uni(rng), 3 + uni(rng)};
+      v[k][0] = v[k][1] = v[k][2] = uni(rng);
+      v[k][3] = all_hit || uni(rng) < 0.7f ? 1.0f : 0.0f;
+    }
+    ASSERT_TRUE(splat_group(film.view(), f, 3, 3, pos, v, kSplatLanes));
+    for (const PixelAccum& p : film.px) {
+      if (all_hit)
+        ASSERT_EQ(p.alpha, p.weight) << "trial " << trial;
+      else
+        ASSERT_LE(p.alpha, p.weight) << "trial " << trial;
+    }
+  }
+}
+
 TEST(FilmSplat, ClipsAtTheImageEdges) {
   PixelFilter f;
   f.radius = 3.0f;

@@ -109,6 +109,22 @@ def test_time_limit_stops_at_a_pass_boundary():
     out = kauri.render(demo.build(), spp=100000, resolution=(32, 32), time_limit=0.5)
     assert 1 <= out.stats["spp"] < 100000
     assert out.stats["seconds"] < 30
+    # Passes of 1, 1, 2, 4, 8, 16, 16, ... samples: the render stops at a power of two up to
+    # 16, then at a multiple of 16.
+    spp = out.stats["spp"]
+    assert spp in (1, 2, 4, 8) or spp % 16 == 0, spp
+
+
+def test_passes_change_only_the_order_of_the_film_sums():
+    # A render without a time limit is one pass; with one it runs in passes of growing size
+    # (stopping at the last if time allows). The same samples reach the film either way, in
+    # another order of the film's sums: equal up to float rounding.
+    scene = demo.build()
+    one = kauri.render(scene, spp=24, resolution=(24, 20), seed=2, threads=2)
+    passes = kauri.render(scene, spp=24, resolution=(24, 20), seed=2, threads=2, time_limit=1e6)
+    assert one.stats["spp"] == passes.stats["spp"] == 24
+    np.testing.assert_allclose(passes.rgba, one.rgba, rtol=1e-5, atol=1e-7)
+    np.testing.assert_allclose(passes.albedo, one.albedo, rtol=1e-5, atol=1e-7)
 
 
 def test_clamp_only_reduces_indirect_light():

@@ -54,6 +54,16 @@ inline __m128 lane_sums4(__m256 a, __m256 b, __m256 c, __m256 d) {
   const __m256 abcd = _mm256_hadd_ps(ab, cd);  // per 128-bit half: partial sums of a, b, c, d
   return _mm_add_ps(_mm256_castps256_ps128(abcd), _mm256_extractf128_ps(abcd, 1));
 }
+
+/// Σ a over the 8 lanes by lane_sums4's tree, ((a0 + a1) + (a2 + a3)) + ((a4 + a5) + (a6 + a7)):
+/// the film's weight sum, so that Σ w α ≤ Σ w holds in float as it does in reals for
+/// α ≤ 1 (float addition is monotone; another tree could round Σ w one ulp below Σ w α
+/// and give a pixel an alpha above 1).
+inline float lane_sum_pairwise(__m256 a) {
+  const __m256 h = _mm256_hadd_ps(a, a);
+  const __m256 hh = _mm256_hadd_ps(h, h);
+  return _mm_cvtss_f32(_mm_add_ss(_mm256_castps256_ps128(hh), _mm256_extractf128_ps(hh, 1)));
+}
 }  // namespace film_detail
 #endif
 
@@ -90,7 +100,7 @@ inline bool splat_group(const FilmView& film, const PixelFilter& f, int x, int y
       const int px = x - 2 + i;
       if (px < 0 || px >= film.width) continue;
       const __m256 w = _mm256_mul_ps(wrow, _mm256_load_ps(wx[i]));
-      const float w_sum = _mm256_cvtss_f32(lanes::lane_sum(w));
+      const float w_sum = lane_sum_pairwise(w);
       if (w_sum == 0) continue;  // no sample reaches this pixel
       const __m128 s = lane_sums4(_mm256_mul_ps(w, r), _mm256_mul_ps(w, g), _mm256_mul_ps(w, b),
                                   _mm256_mul_ps(w, alpha));
