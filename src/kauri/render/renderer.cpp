@@ -148,27 +148,22 @@ Ray camera_sample(const TileContext& c, int x, int y, uint32_t s, Sampler& sampl
   return sv.camera.generate_ray(*film_pos, u_lens);
 }
 
-/// Sample `s` of pixel (x, y) before it enters the film: its beauty (r, g, b, α) from its
-/// colour `rgb` (sample_rgb_lanes), and its path's first-hit data into the pixel's AOV
-/// sums. A NaN/Inf sample is counted and reported, and enters the film as black with its
-/// full weight, so the estimate stays normalised by what was traced.
-void finish_sample(const TileContext& c, int x, int y, uint32_t s, Vec3 rgb, const PathOutput& out,
-                   const SampledWavelengths& lambda, PixelAOVAccum* aov, float beauty[4]) {
-  const SceneView& sv = c.scene.view();
-  if (!is_finite(rgb)) {
-    c.nan_samples.fetch_add(1);
-    {
-      std::lock_guard<std::mutex> lock(c.nan_mutex);
-      if (c.nan_pixels.size() < 32) c.nan_pixels.push_back({x, y, s});
-    }
-    beauty[0] = beauty[1] = beauty[2] = beauty[3] = 0;
-    return;
+/// A NaN/Inf sample (sample `s` of pixel (x, y)): counted and reported, and entered in the
+/// film as black with its full weight, so the estimate stays normalised by what was traced.
+[[gnu::noinline, gnu::cold]] void report_non_finite(const TileContext& c, int x, int y, uint32_t s,
+                                                    float beauty[4]) {
+  c.nan_samples.fetch_add(1);
+  {
+    std::lock_guard<std::mutex> lock(c.nan_mutex);
+    if (c.nan_pixels.size() < 32) c.nan_pixels.push_back({x, y, s});
   }
-  beauty[0] = rgb.x;
-  beauty[1] = rgb.y;
-  beauty[2] = rgb.z;
-  beauty[3] = out.hit ? 1 : 0;
-  if (!c.cfg.aovs) return;
+  beauty[0] = beauty[1] = beauty[2] = beauty[3] = 0;
+}
+
+/// A finite sample's first-hit data into its pixel's AOV sums (renders with cfg.aovs).
+[[gnu::noinline]] void add_sample_aovs(const TileContext& c, const PathOutput& out, const SampledWavelengths& lambda,
+                                       PixelAOVAccum* aov) {
+  const SceneView& sv = c.scene.view();
   if (out.hit) {
     aov->normal[0] += double(out.normal.x);
     aov->normal[1] += double(out.normal.y);
@@ -190,6 +185,21 @@ void finish_sample(const TileContext& c, int x, int y, uint32_t s, Vec3 rgb, con
       }
     }
   }
+}
+
+/// Sample `s` of pixel (x, y) before it enters the film: its beauty (r, g, b, α) from its
+/// colour `rgb` (sample_rgb_lanes), and its path's first-hit data into the pixel's AOV
+/// sums. Inline: the common case, a finite beauty without AOVs, is four stores, where the
+/// out-of-line call with the rare cases in its body cost ~85 instructions a sample (3% of
+/// the hangar's).
+KAURI_FORCE_INLINE void finish_sample(const TileContext& c, int x, int y, uint32_t s, Vec3 rgb, const PathOutput& out,
+                                      const SampledWavelengths& lambda, PixelAOVAccum* aov, float beauty[4]) {
+  if (!is_finite(rgb)) return report_non_finite(c, x, y, s, beauty);
+  beauty[0] = rgb.x;
+  beauty[1] = rgb.y;
+  beauty[2] = rgb.z;
+  beauty[3] = out.hit ? 1 : 0;
+  if (c.cfg.aovs) add_sample_aovs(c, out, lambda, aov);
 }
 
 template <class Accel>
