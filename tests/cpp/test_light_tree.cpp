@@ -202,6 +202,18 @@ TEST(LightTree, VectorStepsMatchTheLaneByLaneDefinition) {
       const Point3 p{12 * rng.next_float() - 6, 12 * rng.next_float() - 6, 12 * rng.next_float() - 6};
       Float imp[kLightTreeArity], want[kLightTreeArity], got[kLightTreeArity];
       light_tree_importance(node, p, imp);
+#if KAURI_LIGHT_TREE_AVX2
+      // The lanes' bound uses the reciprocal square root estimate: within a few 1e-4 of the
+      // definition, relative to the bound's distance part Φ / max(d², r²) (where cos θ' is
+      // near 0 the cosine's rounding dominates, so relative to the bound itself it is not).
+      Float exact[kLightTreeArity];
+      for (int j = 0; j < kLightTreeArity; ++j) exact[j] = imp[j];
+      light_tree_importance_lanes(node, p, imp);
+      for (int j = 0; j < kLightTreeArity; ++j) {
+        const Float d2 = sqr(p.x - node.cx[j]) + sqr(p.y - node.cy[j]) + sqr(p.z - node.cz[j]);
+        ASSERT_NEAR(imp[j], exact[j], 2e-3f * node.power[j] / std::max(d2, node.radius2[j])) << j;
+      }
+#endif
       light_tree_probs_scalar(node, imp, want);
       light_tree_child_probs(node, p, got);
       for (int j = 0; j < kLightTreeArity; ++j) ASSERT_NEAR(got[j], want[j], 1e-6f * want[j] + 1e-30f) << j;

@@ -106,12 +106,49 @@ KAURI_HOST_DEVICE inline void light_tree_probs_scalar(const LightTreeNode& node,
 static_assert(kLightTreeArity == 8, "the AVX2 steps hold a node's lanes in one 8-float register");
 #endif
 
+#if KAURI_LIGHT_TREE_AVX2
+namespace light_tree_detail {
+using lanes::F32x8;
+inline F32x8 load8(const Float* a) {
+  F32x8 v;
+  __builtin_memcpy(&v, a, sizeof v);
+  return v;
+}
+inline F32x8 max8(F32x8 a, F32x8 b) { return _mm256_max_ps(a, b); }
+/// √y for y ≥ 0 from the reciprocal square root estimate (rel. error ≤ 1.5 · 2⁻¹²).
+inline F32x8 sqrt_estimate(F32x8 y) { return y * _mm256_rsqrt_ps(max8(y, F32x8{} + 1e-30f)); }
+}  // namespace light_tree_detail
+
+/// light_tree_importance over the 8 lanes with the reciprocal square root estimate (~12
+/// bits) for 1/d and the sines: the bound only shapes the proposal, sample() and pmf() both
+/// read this one function, and its dependency chain, three square roots and a division
+/// deep and repeated at every level, is what a many-light NEE waits on.
+inline void light_tree_importance_lanes(const LightTreeNode& n, Point3 p, Float imp[kLightTreeArity]) {
+  using namespace light_tree_detail;
+  const F32x8 zero{}, one = zero + 1;
+  const F32x8 vx = p.x - load8(n.cx), vy = p.y - load8(n.cy), vz = p.z - load8(n.cz);
+  const F32x8 d2 = vx * vx + vy * vy + vz * vz, r2 = load8(n.radius2);
+  const F32x8 inv_d = _mm256_rsqrt_ps(max8(d2, r2));
+  const F32x8 inv_d2 = inv_d * inv_d;
+  const F32x8 cos_theta = (load8(n.ax) * vx + load8(n.ay) * vy + load8(n.az) * vz) * inv_d;
+  const F32x8 sin_theta = sqrt_estimate(max8(one - cos_theta * cos_theta, zero));
+  const F32x8 cos_o = load8(n.cos_o), sin_o = load8(n.sin_o);
+  const F32x8 sin_u = load8(n.radius) * inv_d;
+  const F32x8 cos_u = sqrt_estimate(max8(one - sin_u * sin_u, zero));
+  const F32x8 cos_phi = cos_o * cos_u - sin_o * sin_u, sin_phi = sin_o * cos_u + cos_o * sin_u;
+  const auto bounded = (d2 > r2) & (cos_o > -1) & (sin_phi >= 0) & (cos_phi > -1) & (cos_theta < cos_phi);
+  const F32x8 cos_p = bounded ? max8(cos_theta * cos_phi + sin_theta * sin_phi, zero) : one;
+  const F32x8 out = load8(n.power) * cos_p * inv_d2;
+  __builtin_memcpy(imp, &out, sizeof out);
+}
+#endif
+
 /// Probabilities of descending into each lane of `node` at p (zero in unused lanes).
 KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, Point3 p,
                                                      Float prob[kLightTreeArity]) {
   alignas(32) Float imp[kLightTreeArity];
-  light_tree_importance(node, p, imp);
 #if KAURI_LIGHT_TREE_AVX2
+  light_tree_importance_lanes(node, p, imp);
   const __m256 i = _mm256_load_ps(imp);
   const __m256 sum = lanes::lane_sum(i);
   const __m256 bounded = _mm256_cmp_ps(sum, _mm256_setzero_ps(), _CMP_GT_OQ);
@@ -119,6 +156,7 @@ KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, 
   const __m256 b = _mm256_blendv_ps(_mm256_set1_ps(1), _mm256_set1_ps(kLightTreePowerShare), bounded);
   _mm256_storeu_ps(prob, _mm256_fmadd_ps(i, a, _mm256_mul_ps(_mm256_loadu_ps(node.power_share), b)));
 #else
+  light_tree_importance(node, p, imp);
   light_tree_probs_scalar(node, imp, prob);
 #endif
 }
