@@ -106,6 +106,47 @@ TEST(Sampling, UniformDisk) {
 // atan2 and acos: every octant and quadrant, both signs of zero, the fold at tan(π/8),
 // angles near ±π (where the result changes sign) and arguments of very different scales.
 // Within 4e-7 absolute: about an ulp of the result near π.
+// The disk and triangle maps select their operands instead of branching on the half of the
+// square (select_if_less); the values must be those of the two-branch definitions, bit for
+// bit, on both sides of the diagonals and on them.
+TEST(Sampling, SelectFormsOfTheDiskAndTriangleMapsMatchTheBranches) {
+  auto disk_branches = [](Vec2 u) -> Vec2 {
+    Float a = 2 * u.x - 1, b = 2 * u.y - 1;
+    if (a == 0 && b == 0) return {0, 0};
+    if (std::fabs(a) > std::fabs(b)) {
+      const Vec2 cs = cos_sin_quarter(kPiOver4 * (b / a));
+      return {a * cs.x, a * cs.y};
+    }
+    const Vec2 cs = cos_sin_quarter(kPiOver4 * (a / b));
+    return {b * cs.y, b * cs.x};
+  };
+  auto triangle_branches = [](Vec2 u) -> Vec2 {
+    if (u.x < u.y) return {u.x / 2, u.y - u.x / 2};
+    return {u.x - u.y / 2, u.y / 2};
+  };
+  PCG32 rng(31, 2);
+  int wide = 0, lower = 0;
+  for (int i = 0; i < 200000; ++i) {
+    Vec2 u{rng.next_float(), rng.next_float()};
+    if (i % 7 == 0) u.y = u.x;          // on the diagonal
+    if (i % 11 == 0) u.y = 1 - u.x;     // on the other diagonal (|a| = |b|)
+    const Vec2 d = sample_uniform_disk(u), dw = disk_branches(u);
+    ASSERT_EQ(float_as_bits(d.x), float_as_bits(dw.x)) << u.x << " " << u.y;
+    ASSERT_EQ(float_as_bits(d.y), float_as_bits(dw.y)) << u.x << " " << u.y;
+    const Vec2 t = sample_uniform_triangle(u), tw = triangle_branches(u);
+    ASSERT_EQ(float_as_bits(t.x), float_as_bits(tw.x)) << u.x << " " << u.y;
+    ASSERT_EQ(float_as_bits(t.y), float_as_bits(tw.y)) << u.x << " " << u.y;
+    wide += std::fabs(2 * u.x - 1) > std::fabs(2 * u.y - 1);
+    lower += u.x < u.y;
+  }
+  EXPECT_GT(wide, 50000);  // both sides of each choice were compared
+  EXPECT_GT(lower, 50000);
+  EXPECT_EQ(select_if_less(1, 2, 3, 4), 3);
+  EXPECT_EQ(select_if_less(2, 1, 3, 4), 4);
+  EXPECT_EQ(select_if_less(1, 1, 3, 4), 4);
+  EXPECT_EQ(select_if_less(std::nanf(""), 1, 3, 4), 4);  // as x < y: false for NaN
+}
+
 TEST(Sampling, PolynomialAtan2AndAcosMatchTheLibrary) {
   PCG32 rng(9, 4);
   double worst = 0;

@@ -19,15 +19,16 @@ KAURI_HOST_DEVICE inline Vec2 cos_sin_quarter(Float phi) {
 /// Concentric square → disk mapping (Shirley & Chiu 1997): low distortion keeps strata.
 /// Each wedge's angle is π/4 · (ratio) within a quarter turn, so the cosine and sine come
 /// from cos_sin_quarter (libm's sincosf was 1.8% of a Cornell box render's instructions).
+/// The wedge is decided by a fresh random number, which no branch predictor learns: the
+/// operands are selected (select_if_less), bit for bit the two-branch form
+/// (θ = π/4 · b/a where |a| > |b|, else π/2 − π/4 · a/b).
 KAURI_HOST_DEVICE inline Vec2 sample_uniform_disk(Vec2 u) {
   Float a = 2 * u.x - 1, b = 2 * u.y - 1;
   if (a == 0 && b == 0) return {0, 0};
-  if (std::fabs(a) > std::fabs(b)) {
-    const Vec2 cs = cos_sin_quarter(kPiOver4 * (b / a));  // θ = π/4 · b/a
-    return {a * cs.x, a * cs.y};
-  }
-  const Vec2 cs = cos_sin_quarter(kPiOver4 * (a / b));  // θ = π/2 − π/4 · a/b
-  return {b * cs.y, b * cs.x};
+  const Float abs_a = std::fabs(a), abs_b = std::fabs(b);  // |a| > |b|: the wedge of θ = π/4 · b/a
+  const Float r = select_if_less(abs_b, abs_a, a, b), q = select_if_less(abs_b, abs_a, b, a);
+  const Vec2 cs = cos_sin_quarter(kPiOver4 * (q / r));
+  return {r * select_if_less(abs_b, abs_a, cs.x, cs.y), r * select_if_less(abs_b, abs_a, cs.y, cs.x)};
 }
 
 /// Malley's method: cosine-weighted hemisphere around +z, pdf = cosθ/π.
@@ -56,16 +57,12 @@ KAURI_HOST_DEVICE inline Float uniform_cone_pdf(Float cos_max) { return 1 / (2 *
 
 /// Uniform barycentrics (b0, b1) on a triangle (Heitz 2019, "A low-distortion map
 /// between triangle and square"); b2 = 1 - b0 - b1.
+/// The half of the square holding u is selected, not branched on (select_if_less);
+/// bit for bit the form with b0 = u.x / 2, b1 = u.y − b0 where u.x < u.y, else
+/// b1 = u.y / 2, b0 = u.x − b1.
 KAURI_HOST_DEVICE inline Vec2 sample_uniform_triangle(Vec2 u) {
-  Float b0, b1;
-  if (u.x < u.y) {
-    b0 = u.x / 2;
-    b1 = u.y - b0;
-  } else {
-    b1 = u.y / 2;
-    b0 = u.x - b1;
-  }
-  return {b0, b1};
+  const Float h = select_if_less(u.x, u.y, u.x, u.y) / 2;
+  return {select_if_less(u.x, u.y, h, u.x - h), select_if_less(u.x, u.y, u.y - h, h)};
 }
 
 /// Inverse error function, single precision (Giles 2010, "Approximating the erfinv function").
