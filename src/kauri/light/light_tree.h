@@ -143,19 +143,27 @@ inline void light_tree_importance_lanes(const LightTreeNode& n, Point3 p, Float 
 }
 #endif
 
-/// Probabilities of descending into each lane of `node` at p (zero in unused lanes).
-KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, Point3 p,
-                                                     Float prob[kLightTreeArity]) {
-  alignas(32) Float imp[kLightTreeArity];
 #if KAURI_LIGHT_TREE_AVX2
+/// light_tree_child_probs as one vector, the form the descent keeps in a register.
+inline __m256 light_tree_child_probs_lanes(const LightTreeNode& node, Point3 p) {
+  alignas(32) Float imp[kLightTreeArity];
   light_tree_importance_lanes(node, p, imp);
   const __m256 i = _mm256_load_ps(imp);
   const __m256 sum = lanes::lane_sum(i);
   const __m256 bounded = _mm256_cmp_ps(sum, _mm256_setzero_ps(), _CMP_GT_OQ);
   const __m256 a = _mm256_and_ps(bounded, _mm256_div_ps(_mm256_set1_ps(1 - kLightTreePowerShare), sum));
   const __m256 b = _mm256_blendv_ps(_mm256_set1_ps(1), _mm256_set1_ps(kLightTreePowerShare), bounded);
-  _mm256_storeu_ps(prob, _mm256_fmadd_ps(i, a, _mm256_mul_ps(_mm256_loadu_ps(node.power_share), b)));
+  return _mm256_fmadd_ps(i, a, _mm256_mul_ps(_mm256_loadu_ps(node.power_share), b));
+}
+#endif
+
+/// Probabilities of descending into each lane of `node` at p (zero in unused lanes).
+KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, Point3 p,
+                                                     Float prob[kLightTreeArity]) {
+#if KAURI_LIGHT_TREE_AVX2
+  _mm256_storeu_ps(prob, light_tree_child_probs_lanes(node, p));
 #else
+  alignas(32) Float imp[kLightTreeArity];
   light_tree_importance(node, p, imp);
   light_tree_probs_scalar(node, imp, prob);
 #endif
@@ -181,25 +189,42 @@ KAURI_HOST_DEVICE inline int light_tree_choose_scalar(const Float pk[kLightTreeA
   return chosen;
 }
 
+#if KAURI_LIGHT_TREE_AVX2
+/// light_tree_choose on the probabilities in a register: the exclusive prefix sums by a scan
+/// in the register (two shifts within each half, then the low half's total carried into the
+/// high half), one comparison of the 8 shares' starts with u, the highest lane that passes.
+/// The scan adds in another order than the lane-by-lane definition (the shares' edges may
+/// differ by rounding), and spares the sequential chain of eight additions and the trip
+/// through memory that a vector load of eight scalar stores cannot forward (the descent
+/// waits on each step). *taken: the chosen lane's probability; *start: its share's start.
+inline int light_tree_choose_lanes(__m256 pk, Float u, Float lo, Float width, Float* start, Float* taken) {
+  const auto shift_in_halves = [](__m256 x, int bytes) {
+    return bytes == 4 ? _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(x), 4))
+                      : _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(x), 8));
+  };
+  __m256 incl = _mm256_add_ps(pk, shift_in_halves(pk, 4));
+  incl = _mm256_add_ps(incl, shift_in_halves(incl, 8));  // inclusive sums within each half
+  const __m256 low_total = _mm256_permute2f128_ps(_mm256_permute_ps(incl, 0xff), incl, 0x08);  // (0 | Σ low)
+  incl = _mm256_add_ps(incl, low_total);
+  const __m256 excl =
+      _mm256_blend_ps(_mm256_permutevar8x32_ps(incl, _mm256_setr_epi32(0, 0, 1, 2, 3, 4, 5, 6)), _mm256_setzero_ps(), 1);
+  const __m256 edge = _mm256_fmadd_ps(excl, _mm256_set1_ps(width), _mm256_set1_ps(lo));
+  const __m256 pass = _mm256_and_ps(_mm256_cmp_ps(edge, _mm256_set1_ps(u), _CMP_LE_OQ),
+                                    _mm256_cmp_ps(pk, _mm256_setzero_ps(), _CMP_GT_OQ));
+  const unsigned mask = unsigned(_mm256_movemask_ps(pass)) | 1u;  // lane 0 is the fallback
+  const int chosen = 31 - __builtin_clz(mask);
+  const __m256i lane = _mm256_set1_epi32(chosen);
+  *start = chosen == 0 ? lo : _mm256_cvtss_f32(_mm256_permutevar8x32_ps(edge, lane));
+  *taken = _mm256_cvtss_f32(_mm256_permutevar8x32_ps(pk, lane));
+  return chosen;
+}
+#endif
+
 KAURI_HOST_DEVICE inline int light_tree_choose(const Float pk[kLightTreeArity], Float u, Float lo, Float width,
                                                Float* start) {
 #if KAURI_LIGHT_TREE_AVX2
-  // Exclusive prefix sums of the 8 probabilities in the scalar order (the shares must
-  // tile [lo, lo + width) as the scalar definition does), then one comparison of all 8
-  // starts with u and the highest lane that passes.
-  alignas(32) Float cdf[kLightTreeArity];
-  Float acc = 0;
-  for (int k = 0; k < kLightTreeArity; ++k) {
-    cdf[k] = acc;
-    acc += pk[k];
-  }
-  const __m256 edge = _mm256_fmadd_ps(_mm256_load_ps(cdf), _mm256_set1_ps(width), _mm256_set1_ps(lo));
-  const __m256 pass = _mm256_and_ps(_mm256_cmp_ps(edge, _mm256_set1_ps(u), _CMP_LE_OQ),
-                                    _mm256_cmp_ps(_mm256_loadu_ps(pk), _mm256_setzero_ps(), _CMP_GT_OQ));
-  const unsigned mask = unsigned(_mm256_movemask_ps(pass)) | 1u;  // lane 0 is the fallback
-  const int chosen = 31 - __builtin_clz(mask);
-  *start = chosen == 0 ? lo : lo + cdf[chosen] * width;
-  return chosen;
+  Float taken;
+  return light_tree_choose_lanes(_mm256_loadu_ps(pk), u, lo, width, start, &taken);
 #else
   return light_tree_choose_scalar(pk, u, lo, width, start);
 #endif
@@ -221,10 +246,15 @@ struct LightTreeView {
     int i = 0;
     for (;;) {
       const LightTreeNode& n = nodes[i];
-      Float pk[kLightTreeArity], start;
+      Float start, taken;
+#if KAURI_LIGHT_TREE_AVX2
+      const int chosen = light_tree_choose_lanes(light_tree_child_probs_lanes(n, p), u, lo, width, &start, &taken);
+#else
+      Float pk[kLightTreeArity];
       light_tree_child_probs(n, p, pk);
       const int chosen = light_tree_choose(pk, u, lo, width, &start);
-      const Float taken = pk[chosen];
+      taken = pk[chosen];
+#endif
       prob *= taken;
       lo = start;
       width *= taken;
