@@ -399,6 +399,20 @@ class Call:
     disk_hit: bool = False   # Dr.Jit: some kernel came from the on-disk cache (~/.drjit)
 
 
+# Pause before every timed render call (any renderer). Dr.Jit's worker threads keep spinning
+# for some milliseconds after a kernel: a kauri render of the Cornell box at 16 spp (34 ms)
+# started right after a Mitsuba render took 40-50 ms, with a Dr.Jit worker taking CPU time
+# during it, and 34-35 ms after 20 ms or more of pause (bench/suite.py's interleaved rounds
+# put some other renderer before nearly every render). Mitsuba's renders after kauri's were
+# not slowed (TBB's workers do not spin that long). Applied to all renderers alike.
+SETTLE_S = 0.05
+
+
+def settle():
+    """Lets the previous render's worker threads go idle (SETTLE_S)."""
+    time.sleep(SETTLE_S)
+
+
 class _RendererProxy:
     """Stands in for the kauri or mitsuba module while peers.render_kauri / render_mitsuba
     run: everything is forwarded to the real module except render(), which gets the suite's
@@ -441,6 +455,7 @@ class Renderers:
             _live_helpers.append(self._cycles)
         if desc["name"] not in SCENES:
             raise ValueError(f"Cycles renders the bench scenes by name; {desc['name']!r} is not one")
+        settle()
         img, wall, cpu = self._cycles.render(desc, spp, (res, res), seed, self.threads, pixel_filter)
         return img, Call(wall, cpu)
 
@@ -460,6 +475,7 @@ class Renderers:
         if renderer == KAURI:
             def timed(kauri_mod, *args, **kwargs):
                 kwargs["threads"] = self.threads
+                settle()
                 t0, c0 = time.perf_counter(), time.process_time()
                 out = kauri_mod.render(*args, **kwargs)
                 calls.append(Call(time.perf_counter() - t0, time.process_time() - c0))
@@ -480,6 +496,7 @@ class Renderers:
                 if jit:
                     dr.sync_thread()
                     dr.kernel_history()  # clears the history
+                settle()
                 t0, c0 = time.perf_counter(), time.process_time()
                 out = mi_mod.render(*args, **kwargs)
                 if jit:
