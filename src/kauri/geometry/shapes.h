@@ -4,7 +4,6 @@
 #pragma once
 
 #include "kauri/core/lanes.h"
-
 #include "kauri/core/math.h"
 
 namespace kauri {

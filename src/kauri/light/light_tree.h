@@ -92,7 +92,7 @@ KAURI_HOST_DEVICE inline void light_tree_importance(const LightTreeNode& n, Poin
 /// Probabilities of descending into each lane of `node` given the lanes' bounds `imp`:
 /// (1 − s) I_k / Σ I + s Φ_k / Σ Φ with s = kLightTreePowerShare, or Φ_k / Σ Φ where every
 /// bound is 0 (zero in unused lanes). The lane-by-lane definition, which the vector path
-/// below must match (tests/cpp/test_light_tree.cpp).
+/// below matches up to rounding and its estimated bound (tests/cpp/test_light_tree.cpp).
 KAURI_HOST_DEVICE inline void light_tree_probs_scalar(const LightTreeNode& node, const Float imp[kLightTreeArity],
                                                       Float prob[kLightTreeArity]) {
   Float imp_sum = 0;
@@ -122,7 +122,10 @@ inline F32x8 sqrt_estimate(F32x8 y) { return y * _mm256_rsqrt_ps(max8(y, F32x8{}
 /// light_tree_importance over the 8 lanes with the reciprocal square root estimate (~12
 /// bits) for 1/d and the sines: the bound only shapes the proposal, sample() and pmf() both
 /// read this one function, and its dependency chain, three square roots and a division
-/// deep and repeated at every level, is what a many-light NEE waits on.
+/// deep and repeated at every level, is what a many-light NEE waits on. The estimate's
+/// bits are the CPU's own (they differ between vendors), so the hangar-like scenes' images
+/// are reproducible per CPU model, not across them; any positive bound keeps the estimate
+/// unbiased.
 inline void light_tree_importance_lanes(const LightTreeNode& n, Point3 p, Float imp[kLightTreeArity]) {
   using namespace light_tree_detail;
   const F32x8 zero{}, one = zero + 1;
@@ -141,9 +144,7 @@ inline void light_tree_importance_lanes(const LightTreeNode& n, Point3 p, Float 
   const F32x8 out = load8(n.power) * cos_p * inv_d2;
   __builtin_memcpy(imp, &out, sizeof out);
 }
-#endif
 
-#if KAURI_LIGHT_TREE_AVX2
 /// light_tree_child_probs as one vector, the form the descent keeps in a register.
 inline __m256 light_tree_child_probs_lanes(const LightTreeNode& node, Point3 p) {
   alignas(32) Float imp[kLightTreeArity];
@@ -172,7 +173,8 @@ KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, 
 /// The lane of a node whose share [lo + width·cdf_k, lo + width·cdf_(k+1)) of the interval
 /// [lo, lo + width) holds u, cdf_k = Σ_(j<k) pk[j]: the last lane with probability whose
 /// share starts at or below u (lane 0 when none does). *start gets the share's start. The
-/// lane-by-lane definition, which the vector path below must match.
+/// lane-by-lane definition; the vector path below sums in a scan's order, so its shares'
+/// edges match up to rounding.
 KAURI_HOST_DEVICE inline int light_tree_choose_scalar(const Float pk[kLightTreeArity], Float u, Float lo, Float width,
                                                       Float* start) {
   int chosen = 0;
@@ -198,12 +200,10 @@ KAURI_HOST_DEVICE inline int light_tree_choose_scalar(const Float pk[kLightTreeA
 /// through memory that a vector load of eight scalar stores cannot forward (the descent
 /// waits on each step). *taken: the chosen lane's probability; *start: its share's start.
 inline int light_tree_choose_lanes(__m256 pk, Float u, Float lo, Float width, Float* start, Float* taken) {
-  const auto shift_in_halves = [](__m256 x, int bytes) {
-    return bytes == 4 ? _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(x), 4))
-                      : _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(x), 8));
-  };
-  __m256 incl = _mm256_add_ps(pk, shift_in_halves(pk, 4));
-  incl = _mm256_add_ps(incl, shift_in_halves(incl, 8));  // inclusive sums within each half
+  // Each 128-bit half shifted up by one, then two lanes (zeros shifted in): inclusive sums
+  // within each half.
+  __m256 incl = _mm256_add_ps(pk, _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(pk), 4)));
+  incl = _mm256_add_ps(incl, _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(incl), 8)));
   const __m256 low_total = _mm256_permute2f128_ps(_mm256_permute_ps(incl, 0xff), incl, 0x08);  // (0 | Σ low)
   incl = _mm256_add_ps(incl, low_total);
   const __m256 excl =
