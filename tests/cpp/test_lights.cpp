@@ -431,6 +431,45 @@ TEST(LightSampling, EnvMap) {
   EXPECT_NEAR(fwd.y, 0.5f, 1e-6);
 }
 
+#if KAURI_LANES_AVX2
+// The AVX2 blend of four texels (env_texel_radiance's host path) against the texel-by-texel
+// sum it replaces, with general quadratics (c0, c1 ≠ 0), sigmoid arguments far past the
+// clamp, zero scales and zero weights (a texel edge).
+TEST(EnvMapLookup, LaneBlendMatchesTheTexelByTexelSum) {
+  PCG32 rng(1505, 1);
+  Light l;
+  l.width = 4;
+  l.height = 1;
+  l.illuminant = d65();
+  EnvTexel texels[4];
+  l.texels = texels;
+  const Float big[4] = {1, 1e3f, 1e20f, 1e36f};
+  for (int trial = 0; trial < 20000; ++trial) {
+    for (int k = 0; k < 4; ++k) {
+      const Float m = big[trial % 4];
+      texels[k] = {rng.next_float() < 0.2f ? 0 : 3 * rng.next_float(), m * 1e-4f * (rng.next_float() - 0.5f),
+                   m * 0.1f * (rng.next_float() - 0.5f), m * 20 * (rng.next_float() - 0.5f)};
+    }
+    Float w[4];
+    for (Float& x : w) x = rng.next_float() < 0.1f ? 0 : rng.next_float();
+    const SampledWavelengths lambda = SampledWavelengths::sample_visible(rng.next_float());
+    const EnvTexel* t[4] = {&texels[0], &texels[1], &texels[2], &texels[3]};
+    const SampledSpectrum got = light_detail::env_blend_lanes(t, w, lambda);
+    const SampledSpectrum one(1);
+    for (int i = 0; i < kSpectrumSamples; ++i) {
+      double want = 0, mag = 0;
+      for (int k = 0; k < 4; ++k) {
+        if (!(w[k] > 0)) continue;
+        const double term = double(light_detail::env_texel_spectrum(l, k, 0, lambda, one)[i]) * w[k];
+        want += term;
+        mag += std::fabs(term);
+      }
+      ASSERT_NEAR(double(got[i]), want, 1e-6 * mag + 1e-30) << "trial " << trial << ", wavelength " << i;
+    }
+  }
+}
+#endif
+
 // ---------------------------------------------------------------- estimators vs analytic values
 
 struct Estimate {
