@@ -71,8 +71,9 @@ TEST(SampleLanes, StartedSamplersDrawTheScalarDimensions) {
             ASSERT_EQ(lanes[k].reversed_index, ref.reversed_index);
             ASSERT_EQ(lanes[k].pixel_seed, ref.pixel_seed);
             ASSERT_EQ(lanes[k].dimension, ref.dimension);
-            // Pairs 0-3 come from the lanes' batch, 4 on from the sampler itself.
-            for (int d = 0; d < 7; ++d) {
+            // Pairs 0 … kSobolBatch − 1 come from the lanes' batch, the rest from the
+            // sampler itself.
+            for (int d = 0; d < int(kSobolBatch) + 3; ++d) {
               const Vec2 a = lanes[k].get_2d(), b = ref.get_2d();
               EXPECT_SAME_FLOAT(a.x, b.x);
               EXPECT_SAME_FLOAT(a.y, b.y);
