@@ -113,6 +113,8 @@ struct Builder {
       s.power += c.power;
     }
     for (int k = 0; k < n; ++k) lanes.power_share[k] = lanes.power[k] / s.power;
+    for (int k = 1; k < kLightTreeArity; ++k)
+      lanes.power_share_before[k] = lanes.power_share_before[k - 1] + lanes.power_share[k - 1];
     out.nodes[size_t(node)] = lanes;  // after the recursion: emplace_back may have moved it
     s.child = node;
     return s;

@@ -59,6 +59,7 @@ struct LightTreeNode {
   Float cos_o[kLightTreeArity], sin_o[kLightTreeArity];
   Float power[kLightTreeArity];        // 0 in unused lanes
   Float power_share[kLightTreeArity];  // power[k] / Σ power (the defensive mixture's part)
+  Float power_share_before[kLightTreeArity];  // Σ_(j<k) power_share[j] (the descent's edges)
   int child[kLightTreeArity];          // ≥ 0: the node of that child's children; < 0: −1 − light
 };
 
@@ -145,16 +146,30 @@ inline void light_tree_importance_lanes(const LightTreeNode& n, Point3 p, Float 
   __builtin_memcpy(imp, &out, sizeof out);
 }
 
-/// light_tree_child_probs as one vector, the form the descent keeps in a register.
-inline __m256 light_tree_child_probs_lanes(const LightTreeNode& node, Point3 p) {
-  alignas(32) Float imp[kLightTreeArity];
-  light_tree_importance_lanes(node, p, imp);
-  const __m256 i = _mm256_load_ps(imp);
+/// The mixture's weights of a node's bounds `i` and power shares: prob_k = i_k a + share_k b
+/// (light_tree_probs_scalar's a and b, in every lane).
+struct LightTreeMix {
+  __m256 a, b;
+};
+inline LightTreeMix light_tree_mix_lanes(__m256 i) {
   const __m256 sum = lanes::lane_sum(i);
   const __m256 bounded = _mm256_cmp_ps(sum, _mm256_setzero_ps(), _CMP_GT_OQ);
-  const __m256 a = _mm256_and_ps(bounded, _mm256_div_ps(_mm256_set1_ps(1 - kLightTreePowerShare), sum));
-  const __m256 b = _mm256_blendv_ps(_mm256_set1_ps(1), _mm256_set1_ps(kLightTreePowerShare), bounded);
-  return _mm256_fmadd_ps(i, a, _mm256_mul_ps(_mm256_loadu_ps(node.power_share), b));
+  return {_mm256_and_ps(bounded, _mm256_div_ps(_mm256_set1_ps(1 - kLightTreePowerShare), sum)),
+          _mm256_blendv_ps(_mm256_set1_ps(1), _mm256_set1_ps(kLightTreePowerShare), bounded)};
+}
+inline __m256 light_tree_probs_lanes(const LightTreeNode& node, __m256 i, LightTreeMix m) {
+  return _mm256_fmadd_ps(i, m.a, _mm256_mul_ps(_mm256_loadu_ps(node.power_share), m.b));
+}
+inline __m256 light_tree_importance_vector(const LightTreeNode& node, Point3 p) {
+  alignas(32) Float imp[kLightTreeArity];
+  light_tree_importance_lanes(node, p, imp);
+  return _mm256_load_ps(imp);
+}
+
+/// light_tree_child_probs as one vector.
+inline __m256 light_tree_child_probs_lanes(const LightTreeNode& node, Point3 p) {
+  const __m256 i = light_tree_importance_vector(node, p);
+  return light_tree_probs_lanes(node, i, light_tree_mix_lanes(i));
 }
 #endif
 
@@ -192,30 +207,58 @@ KAURI_HOST_DEVICE inline int light_tree_choose_scalar(const Float pk[kLightTreeA
 }
 
 #if KAURI_LIGHT_TREE_AVX2
-/// light_tree_choose on the probabilities in a register: the exclusive prefix sums by a scan
-/// in the register (two shifts within each half, then the low half's total carried into the
-/// high half), one comparison of the 8 shares' starts with u, the highest lane that passes.
-/// The scan adds in another order than the lane-by-lane definition (the shares' edges may
-/// differ by rounding), and spares the sequential chain of eight additions and the trip
-/// through memory that a vector load of eight scalar stores cannot forward (the descent
-/// waits on each step). *taken: the chosen lane's probability; *start: its share's start.
-inline int light_tree_choose_lanes(__m256 pk, Float u, Float lo, Float width, Float* start, Float* taken) {
+/// Exclusive prefix sums of the 8 lanes, Σ_(j<k) v_j in lane k, by a scan in the register:
+/// two shifts within each half, then the low half's total carried into the high half. It
+/// adds in another order than a lane-by-lane loop (sums may differ by rounding), and spares
+/// the sequential chain of eight additions and the trip through memory that a vector load
+/// of eight scalar stores cannot forward.
+inline __m256 light_tree_exclusive_sums(__m256 v) {
   // Each 128-bit half shifted up by one, then two lanes (zeros shifted in): inclusive sums
   // within each half.
-  __m256 incl = _mm256_add_ps(pk, _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(pk), 4)));
+  __m256 incl = _mm256_add_ps(v, _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(v), 4)));
   incl = _mm256_add_ps(incl, _mm256_castsi256_ps(_mm256_slli_si256(_mm256_castps_si256(incl), 8)));
   const __m256 low_total = _mm256_permute2f128_ps(_mm256_permute_ps(incl, 0xff), incl, 0x08);  // (0 | Σ low)
   incl = _mm256_add_ps(incl, low_total);
-  const __m256 excl =
-      _mm256_blend_ps(_mm256_permutevar8x32_ps(incl, _mm256_setr_epi32(0, 0, 1, 2, 3, 4, 5, 6)), _mm256_setzero_ps(), 1);
-  const __m256 edge = _mm256_fmadd_ps(excl, _mm256_set1_ps(width), _mm256_set1_ps(lo));
+  return _mm256_blend_ps(_mm256_permutevar8x32_ps(incl, _mm256_setr_epi32(0, 0, 1, 2, 3, 4, 5, 6)),
+                         _mm256_setzero_ps(), 1);
+}
+
+/// The highest lane whose share starts at or below u and has probability (lane 0 when
+/// none): one comparison of the 8 starts `edge` with u. *start: its share's start.
+inline int light_tree_pick_lane(__m256 edge, __m256 pk, Float u, Float lo, Float* start) {
   const __m256 pass = _mm256_and_ps(_mm256_cmp_ps(edge, _mm256_set1_ps(u), _CMP_LE_OQ),
                                     _mm256_cmp_ps(pk, _mm256_setzero_ps(), _CMP_GT_OQ));
   const unsigned mask = unsigned(_mm256_movemask_ps(pass)) | 1u;  // lane 0 is the fallback
   const int chosen = 31 - __builtin_clz(mask);
-  const __m256i lane = _mm256_set1_epi32(chosen);
-  *start = chosen == 0 ? lo : _mm256_cvtss_f32(_mm256_permutevar8x32_ps(edge, lane));
-  *taken = _mm256_cvtss_f32(_mm256_permutevar8x32_ps(pk, lane));
+  *start = chosen == 0 ? lo : _mm256_cvtss_f32(_mm256_permutevar8x32_ps(edge, _mm256_set1_epi32(chosen)));
+  return chosen;
+}
+
+/// light_tree_choose on the probabilities in a register. *taken: the chosen lane's
+/// probability; *start: its share's start.
+inline int light_tree_choose_lanes(__m256 pk, Float u, Float lo, Float width, Float* start, Float* taken) {
+  const __m256 edge = _mm256_fmadd_ps(light_tree_exclusive_sums(pk), _mm256_set1_ps(width), _mm256_set1_ps(lo));
+  const int chosen = light_tree_pick_lane(edge, pk, u, lo, start);
+  *taken = _mm256_cvtss_f32(_mm256_permutevar8x32_ps(pk, _mm256_set1_epi32(chosen)));
+  return chosen;
+}
+
+/// One level of the descent from the node's bounds `i` (the form sample() uses): as
+/// light_tree_choose_lanes on light_tree_probs_lanes, with the shares' starts taken as
+/// lo + width (a CI_k + b CP_k), CI the exclusive sums of the bounds and CP the node's
+/// stored ones of the power shares. The scan of the bounds then runs while their total and
+/// its division do, instead of after them: one step less in the chain each level waits on
+/// (the starts match the scan of the probabilities up to rounding; *taken is
+/// light_tree_probs_lanes' lane bit for bit, as pmf() computes it).
+inline int light_tree_step_lanes(const LightTreeNode& node, __m256 i, Float u, Float lo, Float width, Float* start,
+                                 Float* taken) {
+  const __m256 ci = light_tree_exclusive_sums(i);
+  const LightTreeMix m = light_tree_mix_lanes(i);
+  const __m256 pk = light_tree_probs_lanes(node, i, m);
+  const __m256 before = _mm256_fmadd_ps(ci, m.a, _mm256_mul_ps(_mm256_loadu_ps(node.power_share_before), m.b));
+  const __m256 edge = _mm256_fmadd_ps(before, _mm256_set1_ps(width), _mm256_set1_ps(lo));
+  const int chosen = light_tree_pick_lane(edge, pk, u, lo, start);
+  *taken = _mm256_cvtss_f32(_mm256_permutevar8x32_ps(pk, _mm256_set1_epi32(chosen)));
   return chosen;
 }
 #endif
@@ -248,7 +291,7 @@ struct LightTreeView {
       const LightTreeNode& n = nodes[i];
       Float start, taken;
 #if KAURI_LIGHT_TREE_AVX2
-      const int chosen = light_tree_choose_lanes(light_tree_child_probs_lanes(n, p), u, lo, width, &start, &taken);
+      const int chosen = light_tree_step_lanes(n, light_tree_importance_vector(n, p), u, lo, width, &start, &taken);
 #else
       Float pk[kLightTreeArity];
       light_tree_child_probs(n, p, pk);
