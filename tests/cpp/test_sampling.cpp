@@ -344,6 +344,27 @@ std::vector<Float> random_function(PCG32& rng, int n, double zero_fraction) {
   return f;
 }
 
+// The branch-free search against its definition, the last i in [0, n) with cdf[i] <= u, on
+// cdfs with flat runs (zero-probability bins), u on the knots and between them.
+TEST(Distribution, FindIntervalIsTheLastKnotAtOrBelowU) {
+  PCG32 rng(347, 1);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const int n = 1 + int(rng.next_u32() % 70);
+    std::vector<Float> cdf(size_t(n) + 1, 0);
+    for (int i = 1; i <= n; ++i) cdf[size_t(i)] = cdf[size_t(i) - 1] + (rng.next_float() < 0.3f ? 0 : rng.next_float());
+    if (cdf[size_t(n)] == 0) cdf[size_t(n)] = 1;
+    for (Float& c : cdf) c /= cdf[size_t(n)];
+    cdf[size_t(n)] = 1;
+    for (int k = 0; k < 50; ++k) {
+      const Float u = k % 3 == 0 ? cdf[rng.next_u32() % uint32_t(n)] : rng.next_float();
+      int want = 0;
+      for (int i = 0; i < n; ++i)
+        if (cdf[size_t(i)] <= u) want = i;
+      ASSERT_EQ(find_interval(cdf.data(), n, u), want) << "n " << n << " u " << u;
+    }
+  }
+}
+
 TEST(Distribution, Continuous1D) {
   PCG32 rng(40, 1);
   std::vector<std::vector<Float>> funcs;

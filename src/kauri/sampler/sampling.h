@@ -108,12 +108,16 @@ KAURI_HOST_DEVICE inline Float truncated_gaussian_pdf(Float x, Float sigma, Floa
   return std::exp(-x * x / (2 * sigma * sigma)) / (sigma * 2.50662827f * norm);
 }
 
-/// Index of the last cdf entry <= u among cdf[0..n] (cdf[0] = 0, cdf[n] = 1).
+/// Index of the last cdf entry <= u among cdf[0..n) (cdf[0] = 0 <= u < cdf[n] = 1). The
+/// halving steps depend on n alone and each one moves `lo` by a select, not a branch: the
+/// comparisons are decided by fresh random numbers, and as branches they missed every other
+/// step (light selection by power, the environment's two-level search).
 KAURI_HOST_DEVICE inline int find_interval(const Float* cdf, int n, Float u) {
-  int lo = 0, hi = n;  // invariant: cdf[lo] <= u < cdf[hi]
-  while (hi - lo > 1) {
-    int mid = (lo + hi) / 2;
-    if (cdf[mid] <= u) lo = mid; else hi = mid;
+  int lo = 0, len = n;  // the answer lies in [lo, lo + len)
+  while (len > 1) {
+    const int half = len / 2;
+    lo = cdf[lo + half] <= u ? lo + half : lo;
+    len -= half;
   }
   return lo;
 }
