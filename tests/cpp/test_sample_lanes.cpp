@@ -193,6 +193,7 @@ TEST(SampleLanes, FilmStageGivesTheScalarColour) {
           out[k].L[i] = 4 * rng.next_float();
           out[k].L_direct_first[i] = rng.next_float() < 0.3f ? 0 : 2 * rng.next_float();
         }
+        if (rng.next_float() < 0.3f) out[k].rgb_exact = {rng.next_float(), 2 * rng.next_float(), rng.next_float()};
         // A dispersive path keeps only its hero wavelength: the others' densities are 0.
         if (rng.next_float() < 0.2f)
           for (int i = 1; i < kSpectrumSamples; ++i) lambda[k].pdf[i] = 0;
@@ -203,7 +204,7 @@ TEST(SampleLanes, FilmStageGivesTheScalarColour) {
       for (int k = 0; k < n; ++k) {
         const SampledXYZWeights to_xyz(lambda[k]);
         const Vec3 indirect_xyz = to_xyz(out[k].L);
-        const Vec3 ref = sv.to_rgb(to_xyz(out[k].L_direct_first)) +
+        const Vec3 ref = sv.to_rgb(to_xyz(out[k].L_direct_first)) + out[k].rgb_exact +
                          clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, clamp);
         if (!is_finite(ref)) {
           EXPECT_FALSE(is_finite(rgb[k]));

@@ -240,6 +240,28 @@ TEST(Spectral, SampledToXYZConverges) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(acc[c] / n, double(exact[c]), 0.005 * double(exact[c])) << "component " << c;
 }
 
+// spectrum_to_xyz_expected is the mean of the film's estimate over the path wavelengths
+// (what trace_path adds for a light seen directly instead of that estimate): the
+// estimate averaged over a midpoint grid of 2^18 values of u, for lights of several kinds.
+TEST(Spectral, ExpectedXYZIsTheMeanOfTheFilmsEstimate) {
+  const RGBColorSpace& cs = color_space(ColorSpaceId::LinearSRGB);
+  const Spectrum lights[] = {rgb_illuminant(cs, {9, 7.5f, 5}), rgb_illuminant(cs, {6, 7, 9}),
+                             rgb_illuminant(cs, {0.05f, 0.1f, 3}), Spectrum::make_blackbody(2700, 4),
+                             Spectrum::make_constant(2), Spectrum::make_dense(cie_grid(tables::kCieD65))};
+  const int n = 1 << 18;
+  for (const Spectrum& L : lights) {
+    double acc[3] = {0, 0, 0};
+    for (int j = 0; j < n; ++j) {
+      const SampledWavelengths w = sample_wavelengths(cs.wavelengths, (Float(j) + 0.5f) / Float(n));
+      const Vec3 xyz = sampled_to_xyz(L.sample(w), w);
+      for (int c = 0; c < 3; ++c) acc[c] += double(xyz[c]);
+    }
+    const Vec3 want = spectrum_to_xyz_expected(L);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(acc[c] / n, double(want[c]), 2e-5 * double(want.y) + 1e-7) << "type " << int(L.type) << " c " << c;
+  }
+}
+
 TEST(Spectral, SampledToXYZSkipsTerminatedWavelengths) {
   SampledWavelengths w = SampledWavelengths::sample_visible(0.3f);
   w.terminate_secondary();

@@ -167,3 +167,29 @@ def test_one_sided_quad_light_at_grazing_angles(y0, z1, z2, a):
     r2 = X ** 2 + y0 ** 2 + Z ** 2
     E = (L * (Z / np.sqrt(r2)) * (y0 / np.sqrt(r2)) / r2).sum() * (2 * a / n) * ((z2 - z1) / n)
     np.testing.assert_allclose(mean_rgb(out), rho * E / np.pi, rtol=0.005)
+
+
+def test_lights_seen_directly_add_their_colour_without_colour_noise():
+    # A camera ray that meets a light adds the expected colour of the light's spectrum over
+    # the path wavelengths (trace_path: add_area_seen_directly), not a 4-wavelength estimate
+    # of it: a panel that fills the view, and a constant environment, render one value at
+    # every pixel and for every seed, which is their RGB up to the spectral uplift's round trip.
+    def panel(seed):
+        s = kauri.Scene()
+        P = np.array([[-50, 0, -50], [50, 0, -50], [50, 0, 50], [-50, 0, 50]])
+        s.add_mesh(P, np.array([[0, 3, 2, 1]]), name="panel",
+                   emission=kauri.Emission(color=(0.9, 0.3, 0.05), intensity=2.0, two_sided=True))
+        s.set_camera(kind="orthographic", eye=(0, 5, 0), target=(0, 0, 0), up=(0, 0, -1), width=1.0)
+        return kauri.render(s, spp=4, resolution=(8, 8), seed=seed).rgba[:, :, :3]
+
+    def sky(seed):
+        s = kauri.Scene()
+        s.add_environment(color=(0.2, 0.5, 1.0), intensity=1.5)
+        s.set_camera(kind="orthographic", eye=(0, 5, 0), target=(0, 6, 0), up=(0, 0, -1), width=1.0)
+        return kauri.render(s, spp=4, resolution=(8, 8), seed=seed).rgba[:, :, :3]
+
+    for render, rgb in ((panel, np.array([1.8, 0.6, 0.1])), (sky, np.array([0.3, 0.75, 1.5]))):
+        a, b = render(1), render(2)
+        np.testing.assert_allclose(a, np.broadcast_to(a[0, 0], a.shape), rtol=1e-5)
+        np.testing.assert_allclose(b, a, rtol=1e-5)
+        np.testing.assert_allclose(a[0, 0], rgb, rtol=0.02)

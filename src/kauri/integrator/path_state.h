@@ -58,6 +58,7 @@ struct PathState {
 struct PathOutput {
   SampledSpectrum L{0};
   SampledSpectrum L_direct_first{0};  // contributions before any indirect bounce (clamp exempt)
+  Vec3 rgb_exact;                     // output-space colour added as is (lights seen directly; clamp exempt)
   bool hit = false;                   // camera ray hit geometry (alpha)
   bool albedo_set = false;
   SampledSpectrum albedo{0};

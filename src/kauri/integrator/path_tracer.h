@@ -66,6 +66,29 @@ KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel&
   return f * ls.L * (w / p_l);
 }
 
+/// A light the camera ray meets directly adds its colour in the output space (Le_rgb), the
+/// expected value of its spectral estimate over the path's wavelengths: the same image in
+/// expectation, without the colour noise of four wavelengths (a directly seen lamp or sky
+/// otherwise carries it at every pixel it covers; the hangar's lamp edges: 20% more error
+/// than an RGB renderer's, Mitsuba's spectral variant 120%). Exact for the first vertex
+/// only: there the throughput is 1 and the MIS weight 1 at every wavelength. Lights whose
+/// radiance is not their `Le` (material EDFs, environment images) keep the spectral
+/// estimate: false.
+KAURI_HOST_DEVICE inline bool add_area_seen_directly(const Light& l, Normal3 n, Vec3 wo, PathOutput* out) {
+  if (l.material >= 0) return false;
+  if (l.two_sided || dot(n, wo) > 0) out->rgb_exact += l.Le_rgb;
+  return true;
+}
+KAURI_HOST_DEVICE inline bool add_seen_directly(const Light& l, Vec3 d, PathOutput* out) {
+  switch (l.type) {
+    case LightType::EnvConstant: out->rgb_exact += l.Le_rgb; return true;
+    case LightType::Distant:
+      if (distant_cone_contains(l, d)) out->rgb_exact += l.Le_rgb / (kPi * (1 - l.cos_max) * (1 + l.cos_max));
+      return true;
+    default: return false;
+  }
+}
+
 /// x^⅓ for x in (0, 1), to ~2e-6 relative, in (0, 1]: a first guess from the exponent bits
 /// (the exponent divided by 3), then two Newton steps y ← (2y + x / y²) / 3. Roulette needs
 /// no exact root: any survival probability p in (0, 1] that both the test and the 1/p
@@ -120,6 +143,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     if (!found) {
       for (int i = 0; i < s.n_infinite_lights; ++i) {
         int li = s.infinite_lights[i];
+        if (st.depth == 0 && path_detail::add_seen_directly(s.lights[li], ray.d, out)) continue;
         SampledSpectrum Le = infinite_light_Le(s.lights[li], ray.d, lambda);
         if (Le.is_black()) continue;
         Float w = path_detail::emitter_mis_weight(s, cfg, st, li, ray.d, Point3{}, Normal3{});
@@ -134,7 +158,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
       out->normal = hit.ns;
       out->depth = hit.t * dot(ray.d, cam_fwd);
     }
-    if (hit.light >= 0) {
+    if (hit.light >= 0 && !(st.depth == 0 && path_detail::add_area_seen_directly(s.lights[hit.light], hit.ng, wo, out))) {
       const Light& l = s.lights[hit.light];
       // Emissive materials evaluate their EDFs in the shading frame; NEE uses the
       // geometric frame (isotropic EDFs and lobe albedos agree up to the normal).

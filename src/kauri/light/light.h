@@ -47,6 +47,10 @@ struct Light {
   int material = -1;            // area lights of emissive materials: radiance comes from the material's EDFs
   Spectrum Le;                  // see the conventions above (for material lights: an estimate, for power)
   int emission_id = -1;         // lights with equal Le share an id (EmissionCache); -1: none
+  // Le's colour in the output space, the expected value of the film's estimate over the
+  // wavelengths (spectrum_to_xyz_expected): what a camera ray that meets the light adds,
+  // with no colour noise (trace_path). Not for material lights and environment images.
+  Vec3 Le_rgb;
   Point3 p0, p1, p2;            // triangle vertices; p0 = position/centre otherwise
   Normal3 n{0, 0, 1};           // triangle/disk normal, spot/distant direction (emission direction)
   Float radius = 0;             // sphere/disk radius

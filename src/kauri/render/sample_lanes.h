@@ -181,8 +181,9 @@ inline void camera_rays_lanes(const Camera& cam, const WavelengthDistribution& w
 }
 
 /// The film stage's colour of a group: the RGB each path's output adds to the film, its
-/// direct part as is and the indirect clamped to luminance `clamp` (0: off), as the
-/// scalar render path computed it. Arrays of kSampleLanes initialised entries; rgb[n …]
+/// direct part and the colour of the lights its camera ray met (rgb_exact) as they are,
+/// and the indirect clamped to luminance `clamp` (0: off), as the scalar render path
+/// computed it. Arrays of kSampleLanes initialised entries; rgb[n …]
 /// are to be ignored.
 inline void sample_rgb_lanes(const SceneView& sv, Float clamp, const PathOutput* out, const SampledWavelengths* lambda,
                              int n, Vec3* rgb) {
@@ -211,12 +212,12 @@ inline void sample_rgb_lanes(const SceneView& sv, Float clamp, const PathOutput*
   const F32x8 f = clamp / select(clamped, indirect.y, broadcast(1));
   const Vec3x8 r{d.x + select(clamped, ind.x * f, ind.x), d.y + select(clamped, ind.y * f, ind.y),
                  d.z + select(clamped, ind.z * f, ind.z)};
-  for (int k = 0; k < kSampleLanes; ++k) rgb[k] = Vec3{r.x[k], r.y[k], r.z[k]};
+  for (int k = 0; k < kSampleLanes; ++k) rgb[k] = Vec3{r.x[k], r.y[k], r.z[k]} + out[k].rgb_exact;
 #else
   for (int k = 0; k < n; ++k) {
     const SampledXYZWeights to_xyz(lambda[k]);
     const Vec3 indirect_xyz = to_xyz(out[k].L);
-    rgb[k] = sv.to_rgb(to_xyz(out[k].L_direct_first)) +
+    rgb[k] = sv.to_rgb(to_xyz(out[k].L_direct_first)) + out[k].rgb_exact +
              clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, clamp);
   }
 #endif

@@ -49,13 +49,15 @@ bool same_spectrum(const Spectrum& a, const Spectrum& b) {
 }
 
 /// Gives lights with the same emission spectrum the same Light::emission_id (the
-/// path's EmissionCache then evaluates it once); material lights and environment
-/// images, whose radiance is not `Le`, get none. The search for an equal spectrum stops
-/// at 256 distinct ones (beyond them each light gets an id of its own): the compile stays
-/// linear in the number of lights, and a path meets few colours in a row anyway.
-void assign_emission_ids(std::vector<Light>& lights) {
+/// path's EmissionCache then evaluates it once) and their colour Le_rgb in the output
+/// space (computed once per distinct spectrum); material lights and environment images,
+/// whose radiance is not `Le`, get neither. The search for an equal spectrum stops at 256
+/// distinct ones (beyond them each light gets an id and an integral of its own): the
+/// compile stays linear in the number of lights, and a path meets few colours in a row.
+void assign_emission_ids(std::vector<Light>& lights, const RGBColorSpace& cs) {
   constexpr size_t kMaxSearched = 256;
   std::vector<const Spectrum*> distinct;
+  std::vector<Vec3> distinct_rgb;
   int next_id = 0;
   for (Light& l : lights) {
     l.emission_id = -1;
@@ -64,9 +66,14 @@ void assign_emission_ids(std::vector<Light>& lights) {
     while (k < distinct.size() && !same_spectrum(*distinct[k], l.Le)) ++k;
     if (k < distinct.size()) {
       l.emission_id = int(k);
+      l.Le_rgb = distinct_rgb[k];
       continue;
     }
-    if (distinct.size() < kMaxSearched) distinct.push_back(&l.Le);
+    l.Le_rgb = cs.to_rgb(spectrum_to_xyz_expected(l.Le));
+    if (distinct.size() < kMaxSearched) {
+      distinct.push_back(&l.Le);
+      distinct_rgb.push_back(l.Le_rgb);
+    }
     l.emission_id = next_id++;
   }
 }
@@ -460,7 +467,7 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   if (!(radius > 0)) radius = 1;
 
   c.build_lights(*this, cs);
-  assign_emission_ids(c.lights_);
+  assign_emission_ids(c.lights_, cs);
   std::vector<Float> power(c.lights_.size());
   for (size_t i = 0; i < c.lights_.size(); ++i) {
     Light& l = c.lights_[i];

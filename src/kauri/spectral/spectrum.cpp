@@ -1,6 +1,7 @@
 // Host helpers for Spectrum: CIE integration and table lookups.
 #include "kauri/spectral/spectrum.h"
 
+#include <cmath>
 #include <string>
 
 namespace kauri {
@@ -20,6 +21,23 @@ Vec3 spectrum_to_xyz(const Spectrum& s) {
 }
 
 Float spectrum_to_y(const Spectrum& s) { return spectrum_to_xyz(s).y; }
+
+Vec3 spectrum_to_xyz_expected(const Spectrum& s) {
+  // Gauss–Legendre nodes and weights on [0, 1].
+  const double node[3] = {0.5 - 0.5 * std::sqrt(0.6), 0.5, 0.5 + 0.5 * std::sqrt(0.6)};
+  const double weight[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};
+  double x = 0, y = 0, z = 0;
+  for (int i = 0; i + 1 < tables::kCieSamples; ++i)
+    for (int q = 0; q < 3; ++q) {
+      const double t = node[q];
+      const double v = double(s(Float(double(tables::kCieLambdaMin) + double(i) + t))) * weight[q];
+      x += v * ((1 - t) * double(tables::kCieX[i]) + t * double(tables::kCieX[i + 1]));
+      y += v * ((1 - t) * double(tables::kCieY[i]) + t * double(tables::kCieY[i + 1]));
+      z += v * ((1 - t) * double(tables::kCieZ[i]) + t * double(tables::kCieZ[i + 1]));
+    }
+  const double inv = 1.0 / double(tables::kCieYIntegral);
+  return {Float(x * inv), Float(y * inv), Float(z * inv)};
+}
 
 Float spectrum_max_value(const Spectrum& s) {
   switch (s.type) {

@@ -217,6 +217,12 @@ KAURI_HOST_DEVICE inline Vec3 sampled_to_xyz(const SampledSpectrum& L, const Sam
 /// (so a constant 1 has Y = 1). Host only: 471 evaluations.
 Vec3 spectrum_to_xyz(const Spectrum& s);
 Float spectrum_to_y(const Spectrum& s);
+/// ∫ (x̄, ȳ, z̄)(λ) s(λ) dλ / CIE_Y_integral over [360, 830] nm with the CMFs interpolated
+/// between their 1 nm knots as cie_xyz_bar() does: the expected value of the film's
+/// estimate SampledXYZWeights(w)(s at w) under any wavelength density that is positive
+/// where the CMFs are. Three-point Gauss–Legendre on each 1 nm interval (exact for the
+/// linear CMFs times a quadratic s; the spectra here are smooth on that scale). Host only.
+Vec3 spectrum_to_xyz_expected(const Spectrum& s);
 /// Largest value over [360, 830] nm (exact for RGB kinds without illuminant and blackbody,
 /// sampled at 1 nm otherwise).
 Float spectrum_max_value(const Spectrum& s);
