@@ -176,6 +176,9 @@ def test_lights_seen_directly_add_their_colour_without_colour_noise():
     # every pixel and for every seed, which is their RGB up to the spectral uplift's round trip.
     def panel(seed):
         s = kauri.Scene()
+        # A point light of the same colour first (never seen, so its colour is not
+        # integrated; the panel, which shares its emission id, must still get its own).
+        s.add_point_light(position=(0, -3, 0), color=(0.9, 0.3, 0.05), intensity=2.0)
         P = np.array([[-50, 0, -50], [50, 0, -50], [50, 0, 50], [-50, 0, 50]])
         s.add_mesh(P, np.array([[0, 3, 2, 1]]), name="panel",
                    emission=kauri.Emission(color=(0.9, 0.3, 0.05), intensity=2.0, two_sided=True))

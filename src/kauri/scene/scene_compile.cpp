@@ -56,23 +56,31 @@ bool same_spectrum(const Spectrum& a, const Spectrum& b) {
 /// compile stays linear in the number of lights, and a path meets few colours in a row.
 void assign_emission_ids(std::vector<Light>& lights, const RGBColorSpace& cs) {
   constexpr size_t kMaxSearched = 256;
-  std::vector<const Spectrum*> distinct;
+  std::vector<const Spectrum*> distinct;  // distinct[k] has emission id k
   std::vector<Vec3> distinct_rgb;
+  std::vector<char> rgb_known;
   int next_id = 0;
   for (Light& l : lights) {
     l.emission_id = -1;
     if (l.material >= 0 || l.type == LightType::EnvMap) continue;
+    // Point and spot lights are never met by a ray: no colour to integrate for them.
+    const bool can_be_seen = l.type != LightType::Point && l.type != LightType::Spot;
     size_t k = 0;
     while (k < distinct.size() && !same_spectrum(*distinct[k], l.Le)) ++k;
     if (k < distinct.size()) {
       l.emission_id = int(k);
-      l.Le_rgb = distinct_rgb[k];
+      if (can_be_seen && !rgb_known[k]) {
+        distinct_rgb[k] = cs.to_rgb(spectrum_to_xyz_expected(l.Le));
+        rgb_known[k] = 1;
+      }
+      if (can_be_seen) l.Le_rgb = distinct_rgb[k];
       continue;
     }
-    l.Le_rgb = cs.to_rgb(spectrum_to_xyz_expected(l.Le));
+    if (can_be_seen) l.Le_rgb = cs.to_rgb(spectrum_to_xyz_expected(l.Le));
     if (distinct.size() < kMaxSearched) {
       distinct.push_back(&l.Le);
       distinct_rgb.push_back(l.Le_rgb);
+      rgb_known.push_back(char(can_be_seen));
     }
     l.emission_id = next_id++;
   }
