@@ -176,9 +176,6 @@ def test_lights_seen_directly_add_their_colour_without_colour_noise():
     # every pixel and for every seed, which is their RGB up to the spectral uplift's round trip.
     def panel(seed):
         s = kauri.Scene()
-        # A point light of the same colour first (never seen, so its colour is not
-        # integrated; the panel, which shares its emission id, must still get its own).
-        s.add_point_light(position=(0, -3, 0), color=(0.9, 0.3, 0.05), intensity=2.0)
         P = np.array([[-50, 0, -50], [50, 0, -50], [50, 0, 50], [-50, 0, 50]])
         s.add_mesh(P, np.array([[0, 3, 2, 1]]), name="panel",
                    emission=kauri.Emission(color=(0.9, 0.3, 0.05), intensity=2.0, two_sided=True))
@@ -187,6 +184,9 @@ def test_lights_seen_directly_add_their_colour_without_colour_noise():
 
     def sky(seed):
         s = kauri.Scene()
+        # A point light of the same spectrum first (never seen, so its colour is not
+        # integrated; the sky, which shares its emission id, must still get its own).
+        s.add_point_light(position=(0, -3, 0), color=(0.2, 0.5, 1.0), intensity=1.5)
         s.add_environment(color=(0.2, 0.5, 1.0), intensity=1.5)
         s.set_camera(kind="orthographic", eye=(0, 5, 0), target=(0, 6, 0), up=(0, 0, -1), width=1.0)
         return kauri.render(s, spp=4, resolution=(8, 8), seed=seed).rgba[:, :, :3]
