@@ -83,7 +83,7 @@ KAURI_HOST_DEVICE inline bool add_seen_directly(const Light& l, Vec3 d, PathOutp
   switch (l.type) {
     case LightType::EnvConstant: out->rgb_exact += l.Le_rgb; return true;
     case LightType::Distant:
-      if (distant_cone_contains(l, d)) out->rgb_exact += l.Le_rgb / (kPi * (1 - l.cos_max) * (1 + l.cos_max));
+      if (distant_cone_contains(l, d)) out->rgb_exact += l.Le_rgb / distant_cone_projected_solid_angle(l);
       return true;
     default: return false;
   }

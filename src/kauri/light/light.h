@@ -180,13 +180,19 @@ KAURI_HOST_DEVICE inline bool distant_cone_contains(const Light& l, Vec3 w) {
   return c > 0 && length_squared(cross(w, l.n)) <= (1 - l.cos_max) * (1 + l.cos_max);
 }
 
+/// The projected solid angle π sin²θ_max of a distant light's cone: its radiance inside the
+/// cone is `Le` (irradiance at normal incidence) divided by this.
+KAURI_HOST_DEVICE inline Float distant_cone_projected_solid_angle(const Light& l) {
+  return kPi * (1 - l.cos_max) * (1 + l.cos_max);
+}
+
 /// Radiance arriving along direction `w` (world) from an infinite light; 0 for others.
 KAURI_HOST_DEVICE inline SampledSpectrum infinite_light_Le(const Light& l, Vec3 w, const SampledWavelengths& lambda) {
   switch (l.type) {
     case LightType::EnvConstant: return l.Le.sample(lambda);
     case LightType::EnvMap: return env_texel_radiance(l, direction_to_latlong(l.frame.to_local(w)), lambda);
     case LightType::Distant:
-      if (distant_cone_contains(l, w)) return l.Le.sample(lambda) / (kPi * (1 - l.cos_max) * (1 + l.cos_max));
+      if (distant_cone_contains(l, w)) return l.Le.sample(lambda) / distant_cone_projected_solid_angle(l);
       return SampledSpectrum(0);
     default: return SampledSpectrum(0);
   }

@@ -132,7 +132,7 @@ KAURI_HOST_DEVICE inline LightSample sample_light_other(const Light& l, Point3 p
         s.pdf = uniform_cone_pdf(l.cos_max);
         // Inside the cone by construction: re-testing dot(wi, −n) >= cos_max in float
         // rejects a good part of a small cone's edge (3% of a 0.1° sun).
-        s.L = light_emission(l, lambda, cache) / (kPi * (1 - l.cos_max) * (1 + l.cos_max));
+        s.L = light_emission(l, lambda, cache) / distant_cone_projected_solid_angle(l);
       }
       s.p_light = p + s.wi * (2 * l.scene_radius + distance(p, l.scene_center));
       return s;

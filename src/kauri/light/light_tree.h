@@ -188,8 +188,8 @@ KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, 
 /// The lane of a node whose share [lo + width·cdf_k, lo + width·cdf_(k+1)) of the interval
 /// [lo, lo + width) holds u, cdf_k = Σ_(j<k) pk[j]: the last lane with probability whose
 /// share starts at or below u (lane 0 when none does). *start gets the share's start. The
-/// lane-by-lane definition; the vector path below sums in a scan's order, so its shares'
-/// edges match up to rounding.
+/// lane-by-lane definition; the vector step below (light_tree_step_lanes) sums in a scan's
+/// order, so its shares' edges match up to rounding.
 KAURI_HOST_DEVICE inline int light_tree_choose_scalar(const Float pk[kLightTreeArity], Float u, Float lo, Float width,
                                                       Float* start) {
   int chosen = 0;
@@ -234,17 +234,8 @@ inline int light_tree_pick_lane(__m256 edge, __m256 pk, Float u, Float lo, Float
   return chosen;
 }
 
-/// light_tree_choose on the probabilities in a register. *taken: the chosen lane's
-/// probability; *start: its share's start.
-inline int light_tree_choose_lanes(__m256 pk, Float u, Float lo, Float width, Float* start, Float* taken) {
-  const __m256 edge = _mm256_fmadd_ps(light_tree_exclusive_sums(pk), _mm256_set1_ps(width), _mm256_set1_ps(lo));
-  const int chosen = light_tree_pick_lane(edge, pk, u, lo, start);
-  *taken = _mm256_cvtss_f32(_mm256_permutevar8x32_ps(pk, _mm256_set1_epi32(chosen)));
-  return chosen;
-}
-
 /// One level of the descent from the node's bounds `i` (the form sample() uses): as
-/// light_tree_choose_lanes on light_tree_probs_lanes, with the shares' starts taken as
+/// light_tree_choose_scalar on light_tree_probs_lanes, with the shares' starts taken as
 /// lo + width (a CI_k + b CP_k), CI the exclusive sums of the bounds and CP the node's
 /// stored ones of the power shares. The scan of the bounds then runs while their total and
 /// its division do, instead of after them: one step less in the chain each level waits on
@@ -262,16 +253,6 @@ inline int light_tree_step_lanes(const LightTreeNode& node, __m256 i, Float u, F
   return chosen;
 }
 #endif
-
-KAURI_HOST_DEVICE inline int light_tree_choose(const Float pk[kLightTreeArity], Float u, Float lo, Float width,
-                                               Float* start) {
-#if KAURI_LIGHT_TREE_AVX2
-  Float taken;
-  return light_tree_choose_lanes(_mm256_loadu_ps(pk), u, lo, width, start, &taken);
-#else
-  return light_tree_choose_scalar(pk, u, lo, width, start);
-#endif
-}
 
 struct LightTreeView {
   const LightTreeNode* nodes = nullptr;  // nodes[0] holds the root's children
@@ -295,7 +276,7 @@ struct LightTreeView {
 #else
       Float pk[kLightTreeArity];
       light_tree_child_probs(n, p, pk);
-      const int chosen = light_tree_choose(pk, u, lo, width, &start);
+      const int chosen = light_tree_choose_scalar(pk, u, lo, width, &start);
       taken = pk[chosen];
 #endif
       prob *= taken;
