@@ -230,6 +230,21 @@ TEST(LightTree, VectorStepsMatchTheLaneByLaneDefinition) {
 #else
       const int lane_v = light_tree_choose_scalar(got, u, lo, width, &start_v);
 #endif
+#if KAURI_LIGHT_TREE_AVX2
+      // Where every bound is 0 the step chooses by the power shares alone (another branch
+      // of its comparison).
+      {
+        Float start_p, taken_p, start_q;
+        const int lane_p = light_tree_step_lanes(node, _mm256_setzero_ps(), u, lo, width, &start_p, &taken_p);
+        const int lane_q = light_tree_choose_scalar(node.power_share, u, lo, width, &start_q);
+        if (lane_p == lane_q) {
+          ASSERT_EQ(float_as_bits(taken_p), float_as_bits(node.power_share[lane_p]));
+          ASSERT_NEAR(start_p, start_q, 1e-6f);
+        } else {
+          ASSERT_NEAR(u, lane_p > lane_q ? start_p : start_q, 1e-6f) << "lanes " << lane_p << ", " << lane_q;
+        }
+      }
+#endif
       if (lane_v != lane_s) {  // only where u is a boundary up to rounding
         ASSERT_NEAR(u, lane_v > lane_s ? start_v : start_s, 1e-6f) << "lanes " << lane_v << ", " << lane_s;
         continue;

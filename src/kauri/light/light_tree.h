@@ -132,17 +132,21 @@ inline void light_tree_importance_lanes(const LightTreeNode& n, Point3 p, Float 
   const F32x8 zero{}, one = zero + 1;
   const F32x8 vx = p.x - load8(n.cx), vy = p.y - load8(n.cy), vz = p.z - load8(n.cz);
   const F32x8 d2 = vx * vx + vy * vy + vz * vz, r2 = load8(n.radius2);
-  const F32x8 inv_d = _mm256_rsqrt_ps(max8(d2, r2));
-  const F32x8 inv_d2 = inv_d * inv_d;
-  const F32x8 cos_theta = (load8(n.ax) * vx + load8(n.ay) * vy + load8(n.az) * vz) * inv_d;
-  const F32x8 sin_theta = sqrt_estimate(max8(one - cos_theta * cos_theta, zero));
+  const F32x8 dd = max8(d2, r2);  // d² (clamped as in the definition)
+  const F32x8 inv_d = _mm256_rsqrt_ps(dd);
+  // The sines and cosines as lengths times 1/d: d cos θ = a·v, d sin θ = √(d² − (a·v)²) and
+  // d cos θ_u = √(d² − r²) start from d² and a·v, beside the reciprocal square root,
+  // instead of after it (each level of the descent waits on this chain).
+  const F32x8 d_cos_theta = load8(n.ax) * vx + load8(n.ay) * vy + load8(n.az) * vz;
+  const F32x8 cos_theta = d_cos_theta * inv_d;
+  const F32x8 sin_theta = sqrt_estimate(max8(dd - d_cos_theta * d_cos_theta, zero)) * inv_d;
   const F32x8 cos_o = load8(n.cos_o), sin_o = load8(n.sin_o);
   const F32x8 sin_u = load8(n.radius) * inv_d;
-  const F32x8 cos_u = sqrt_estimate(max8(one - sin_u * sin_u, zero));
+  const F32x8 cos_u = sqrt_estimate(max8(dd - r2, zero)) * inv_d;
   const F32x8 cos_phi = cos_o * cos_u - sin_o * sin_u, sin_phi = sin_o * cos_u + cos_o * sin_u;
   const auto bounded = (d2 > r2) & (cos_o > -1) & (sin_phi >= 0) & (cos_phi > -1) & (cos_theta < cos_phi);
   const F32x8 cos_p = bounded ? max8(cos_theta * cos_phi + sin_theta * sin_phi, zero) : one;
-  const F32x8 out = load8(n.power) * cos_p * inv_d2;
+  const F32x8 out = cos_p * (load8(n.power) * (inv_d * inv_d));
   __builtin_memcpy(imp, &out, sizeof out);
 }
 
@@ -223,33 +227,52 @@ inline __m256 light_tree_exclusive_sums(__m256 v) {
                          _mm256_setzero_ps(), 1);
 }
 
-/// The highest lane whose share starts at or below u and has probability (lane 0 when
-/// none): one comparison of the 8 starts `edge` with u. *start: its share's start.
-inline int light_tree_pick_lane(__m256 edge, __m256 pk, Float u, Float lo, Float* start) {
-  const __m256 pass = _mm256_and_ps(_mm256_cmp_ps(edge, _mm256_set1_ps(u), _CMP_LE_OQ),
-                                    _mm256_cmp_ps(pk, _mm256_setzero_ps(), _CMP_GT_OQ));
-  const unsigned mask = unsigned(_mm256_movemask_ps(pass)) | 1u;  // lane 0 is the fallback
-  const int chosen = 31 - __builtin_clz(mask);
-  *start = chosen == 0 ? lo : _mm256_cvtss_f32(_mm256_permutevar8x32_ps(edge, _mm256_set1_epi32(chosen)));
-  return chosen;
+/// The highest lane set in `pass` (lane 0 when none: the fallback), by a movemask.
+inline int light_tree_highest_lane(__m256 pass) {
+  const unsigned mask = unsigned(_mm256_movemask_ps(pass)) | 1u;
+  return 31 - __builtin_clz(mask);
 }
 
-/// One level of the descent from the node's bounds `i` (the form sample() uses): as
-/// light_tree_choose_scalar on light_tree_probs_lanes, with the shares' starts taken as
-/// lo + width (a CI_k + b CP_k), CI the exclusive sums of the bounds and CP the node's
-/// stored ones of the power shares. The scan of the bounds then runs while their total and
-/// its division do, instead of after them: one step less in the chain each level waits on
-/// (the starts match the scan of the probabilities up to rounding; *taken is
-/// light_tree_probs_lanes' lane bit for bit, as pmf() computes it).
+/// Lane k of v, without a branch on k.
+inline Float light_tree_lane(__m256 v, int k) {
+  return _mm256_cvtss_f32(_mm256_permutevar8x32_ps(v, _mm256_set1_epi32(k)));
+}
+
+/// One level of the descent from the node's bounds `i` (the form sample() uses): the lane
+/// light_tree_choose_scalar takes on light_tree_probs_lanes. Its share of [lo, lo + width)
+/// starts at lo + width (a CI_k + b CP_k), CI the exclusive sums of the bounds, CP the
+/// node's stored ones of the power shares, a = (1 − s) / S and b = s (S = Σ I > 0, s the
+/// power share of the mixture). The choice compares those starts with u multiplied through
+/// by S,
+///     width ((1 − s) CI_k + s CP_k S) ≤ (u − lo) S,
+/// so that it waits on the sum but not on the division by it: each level of the descent
+/// is a dependency chain (bounds, sum, choice, the chosen child's node), and the division
+/// and the probabilities then run beside the next level's bounds. Where S = 0 the shares
+/// are the power shares alone: width CP_k ≤ u − lo, known before the bounds. A lane without
+/// power has probability 0 and is never taken. The starts match the scan of the
+/// probabilities up to rounding; *start and *taken (light_tree_probs_lanes' lane, bit for
+/// bit as pmf() computes it) are the chosen lane's.
 inline int light_tree_step_lanes(const LightTreeNode& node, __m256 i, Float u, Float lo, Float width, Float* start,
                                  Float* taken) {
+  const __m256 zero = _mm256_setzero_ps(), share_before = _mm256_loadu_ps(node.power_share_before);
+  const __m256 has_power = _mm256_cmp_ps(_mm256_loadu_ps(node.power_share), zero, _CMP_GT_OQ);
+  const __m256 u_lo = _mm256_set1_ps(u - lo);
+  // Off the chain: the power-only choice, and width times each term's weight.
+  const __m256 pass_power = _mm256_cmp_ps(_mm256_mul_ps(_mm256_set1_ps(width), share_before), u_lo, _CMP_LE_OQ);
+  const __m256 w_bounds = _mm256_set1_ps(width * (1 - kLightTreePowerShare));
+  const __m256 w_power = _mm256_mul_ps(_mm256_set1_ps(width * kLightTreePowerShare), share_before);
+  // The chain: the bounds' sum and exclusive sums, then one comparison.
   const __m256 ci = light_tree_exclusive_sums(i);
+  const __m256 sum = lanes::lane_sum(i);
+  const __m256 bounded = _mm256_cmp_ps(sum, zero, _CMP_GT_OQ);
+  const __m256 lhs = _mm256_fmadd_ps(w_bounds, ci, _mm256_mul_ps(w_power, sum));
+  const __m256 pass_bounds = _mm256_cmp_ps(lhs, _mm256_mul_ps(u_lo, sum), _CMP_LE_OQ);
+  const int chosen = light_tree_highest_lane(_mm256_and_ps(_mm256_blendv_ps(pass_power, pass_bounds, bounded), has_power));
+  // Beside the next level: the probabilities and the chosen share's start.
   const LightTreeMix m = light_tree_mix_lanes(i);
-  const __m256 pk = light_tree_probs_lanes(node, i, m);
-  const __m256 before = _mm256_fmadd_ps(ci, m.a, _mm256_mul_ps(_mm256_loadu_ps(node.power_share_before), m.b));
-  const __m256 edge = _mm256_fmadd_ps(before, _mm256_set1_ps(width), _mm256_set1_ps(lo));
-  const int chosen = light_tree_pick_lane(edge, pk, u, lo, start);
-  *taken = _mm256_cvtss_f32(_mm256_permutevar8x32_ps(pk, _mm256_set1_epi32(chosen)));
+  const __m256 before = _mm256_fmadd_ps(ci, m.a, _mm256_mul_ps(share_before, m.b));
+  *start = light_tree_lane(_mm256_fmadd_ps(before, _mm256_set1_ps(width), _mm256_set1_ps(lo)), chosen);
+  *taken = light_tree_lane(light_tree_probs_lanes(node, i, m), chosen);
   return chosen;
 }
 #endif
