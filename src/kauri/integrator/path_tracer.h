@@ -34,20 +34,34 @@ KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const Inte
   return power_heuristic(st.prev_pdf, p_light_solid);
 }
 
-/// One next-event estimate from `hit` with the BSDF `bsdf`. One stratified 2D sample `u`
-/// picks the light (u.x) and, with u.x rescaled within that light's share, the point on
-/// it: the points stay stratified over all the lights together. A quad emitter is two
-/// triangle lights; with the light picked by a dimension of its own, each triangle got a
-/// random subset of the points (bench scenes at 256 spp: relMSE cornell +2%, textured +5%,
-/// glossy +8% against this).
+/// The light a next-event estimate at p samples, and the 2D sample for the point on it.
+/// One stratified 2D sample `u` picks the light (u.x) and, with u.x rescaled within that
+/// light's share, the point on it: the points stay stratified over all the lights
+/// together. A quad emitter is two triangle lights; with the light picked by a dimension of
+/// its own, each triangle got a random subset of the points (bench scenes at 256 spp:
+/// relMSE cornell +2%, textured +5%, glossy +8% against this).
+struct LightChoice {
+  int light = -1;
+  Float pmf = 0;
+  Vec2 u;  // the point's sample on the light
+};
+KAURI_HOST_DEVICE inline LightChoice choose_light(const SceneView& s, const IntegratorSettings& cfg, Point3 p, Vec2 u) {
+  LightChoice c;
+  if (s.n_lights == 0) return c;
+  c.u = u;
+  c.light = s.select_light(u.x, p, cfg.light_tree, &c.pmf, &c.u.x);
+  return c;
+}
+
+/// One next-event estimate from `hit` with the BSDF `bsdf`, towards the light `c` chose.
 template <class Accel>
 KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel& accel, const IntegratorSettings& cfg,
                                                 const SurfaceHit& hit, const BSDF& bsdf, Vec3 wo,
-                                                const SampledWavelengths& lambda, Vec2 u, EmissionCache* emission,
-                                                uint32_t* rays) {
-  if (s.n_lights == 0) return SampledSpectrum(0);
-  Float pmf;
-  int li = s.select_light(u.x, hit.p, cfg.light_tree, &pmf, &u.x);
+                                                const SampledWavelengths& lambda, const LightChoice& c,
+                                                EmissionCache* emission, uint32_t* rays) {
+  const int li = c.light;
+  const Float pmf = c.pmf;
+  const Vec2 u = c.u;
   if (li < 0 || !(pmf > 0)) return SampledSpectrum(0);
   const Light& light = s.lights[li];
   // A material light's Le is only a power estimate, replaced by its EDFs below: it stays
@@ -153,6 +167,14 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     }
     SurfaceHit hit = compute_surface_hit(s, ray, h);
     Vec3 wo = -ray.d;
+    // Dimension layout of a bounce, three pairs: light choice and point; lobe choice and
+    // Russian roulette; BSDF direction. The light is chosen here, before the emission and
+    // the BSDF are evaluated, which do not depend on it: a light tree's descent is a chain
+    // of dependent steps, and the CPU runs that work beside it. A specular vertex discards
+    // its choice (the pair is taken either way, so the layout never depends on the material).
+    const bool scatters = hit.material >= 0 && st.depth < cfg.max_depth && !st.last_segment;
+    path_detail::LightChoice light_choice;
+    if (scatters) light_choice = path_detail::choose_light(s, cfg, hit.p, sampler.get_2d());
     if (st.depth == 0) {
       out->hit = true;
       out->normal = hit.ns;
@@ -180,16 +202,10 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     }
     if (st.depth >= cfg.max_depth || st.last_segment) break;
 
-    // Dimension layout of a bounce, three pairs: light choice and point; lobe choice and
-    // Russian roulette; BSDF direction. A light sample a specular vertex does not take is
-    // skipped, not computed, so the layout never depends on the material.
     if (bsdf.has_non_specular()) {
-      Vec2 u_light = sampler.get_2d();
-      SampledSpectrum Ld = path_detail::sample_direct(s, accel, cfg, hit, bsdf, wo, lambda, u_light, &emission,
-                                                    &out->rays);
+      SampledSpectrum Ld =
+          path_detail::sample_direct(s, accel, cfg, hit, bsdf, wo, lambda, light_choice, &emission, &out->rays);
       out->add(st.beta * Ld, st, ContributionKind::DirectLight);
-    } else {
-      sampler.skip_2d();
     }
 
     const Vec2 u_lobe_rr = sampler.get_2d();
