@@ -122,8 +122,9 @@ inline F32x8 sqrt_estimate(F32x8 y) { return y * _mm256_rsqrt_ps(max8(y, F32x8{}
 
 /// light_tree_importance over the 8 lanes with the reciprocal square root estimate (~12
 /// bits) for 1/d and the sines: the bound only shapes the proposal, sample() and pmf() both
-/// read this one function, and its dependency chain, three square roots and a division
-/// deep and repeated at every level, is what a many-light NEE waits on. The estimate's
+/// read this one function, and its dependency chain (the three reciprocal square roots side
+/// by side, then a dozen multiplications and comparisons),
+/// repeated at every level, is what a many-light NEE waits on. The estimate's
 /// bits are the CPU's own (they differ between vendors), so the hangar-like scenes' images
 /// are reproducible per CPU model, not across them; any positive bound keeps the estimate
 /// unbiased.
