@@ -1203,7 +1203,8 @@ def section_ray_replay(cfg, names, threads, log):
                   "peers.render_kauri. 'render' is rays traced per second of kauri's whole render (all "
                   "the path-tracing work); 'Embree replay' is rays per second when the same recorded "
                   "ray queries (closest-hit and shadow) are replayed through the accelerator alone (Embree, "
-                  "and the direct tests of up to 8 analytic spheres and disks), best of 3. "
+                  "and the direct tests of up to 8 analytic spheres and disks). Renders and replays "
+                  "alternate, best of 3 each. "
                   "Their ratio is how close the renderer is to pure traversal cost (100% = nothing "
                   "but traversal).", "", table, ""]
 

@@ -103,12 +103,12 @@ def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0
                max_transmission: int = 12, filter: str = "gaussian", filter_radius: float = 2.0,
                filter_sigma: float = 0.5, reconstruction: str = "splat", max_rays: int = 50_000_000,
                repeats: int = 3, aovs: bool = True) -> dict:
-    """Closeness to the limit: renders ``scene`` as render() would (multi-threaded, timed), then
-    traces the same paths again on one thread recording every ray query, and replays the
-    recorded rays through the accelerator alone (Embree's rtcIntersect1 / rtcOccluded1 and
-    the direct tests of a root group's few spheres and disks, ``threads`` threads,
-    best of ``repeats``; every query alone, although the render traces each pixel's camera
-    rays as packets of 8). Returns the counts and times, plus ``render_rays_per_second``,
+    """Closeness to the limit: traces ``scene``'s paths on one thread recording every ray
+    query, then ``repeats`` times renders it as render() would (multi-threaded, timed) and
+    replays the recorded rays through the accelerator alone (Embree's rtcIntersect1 /
+    rtcOccluded1 and the direct tests of a root group's few spheres and disks, ``threads``
+    threads; every query alone, although the render traces each pixel's camera rays as
+    packets of 8), alternately, and keeps the best time of each. Returns the counts and times, plus ``render_rays_per_second``,
     ``embree_rays_per_second`` and their ratio ``fraction_of_embree`` (1 = the path tracer
     costs nothing beyond traversal). ``hits_match`` checks the replay found the same hits.
     ``aovs`` as in render(): the timed render computes the AOVs unless it is False."""
