@@ -101,10 +101,12 @@ int main(int argc, char** argv) {
   // Half the points on the floor, half on the back wall (z = −8), as the camera sees them.
   PCG32 rng(7, 3);
   std::vector<Point3> points(static_cast<size_t>(iterations));
+  std::vector<Normal3> normals(static_cast<size_t>(iterations));
   std::vector<Float> us(static_cast<size_t>(iterations));
   for (int i = 0; i < iterations; ++i) {
     const Float a = 16 * rng.next_float() - 8, b = rng.next_float();
     points[size_t(i)] = (i & 1) ? Point3{a, 6 * b, -8} : Point3{a, 0, 16 * b - 8};
+    normals[size_t(i)] = (i & 1) ? Normal3{0, 0, 1} : Normal3{0, 1, 0};
     us[size_t(i)] = rng.next_float();
   }
 
@@ -112,7 +114,7 @@ int main(int argc, char** argv) {
     long sum = 0;
     for (int i = 0; i < iterations; ++i) {
       Float pmf;
-      sum += view.sample(us[size_t(i)], points[size_t(i)], &pmf);
+      sum += view.sample(us[size_t(i)], points[size_t(i)], normals[size_t(i)], &pmf);
     }
     return double(sum);
   });
@@ -123,14 +125,15 @@ int main(int argc, char** argv) {
       Point3 p = points[size_t(i)];
       p.x += Float(prev) * 1e-30f;  // the next query waits on this one's result
       Float pmf;
-      prev = view.sample(us[size_t(i)], p, &pmf);
+      prev = view.sample(us[size_t(i)], p, normals[size_t(i)], &pmf);
       sum += prev;
     }
     return double(sum);
   });
   const double pmf = best_ns_per_call(iterations, [&] {
     double sum = 0;
-    for (int i = 0; i < iterations; ++i) sum += view.pmf(i % int(c.lights.size()), points[size_t(i)]);
+    for (int i = 0; i < iterations; ++i)
+      sum += view.pmf(i % int(c.lights.size()), points[size_t(i)], normals[size_t(i)]);
     return sum;
   });
   const double power = best_ns_per_call(iterations, [&] {

@@ -69,9 +69,11 @@ TEST(LightTree, PmfIsADistributionThatKeepsEveryLightWithPower) {
   PCG32 rng(3, 9);
   for (int k = 0; k < 50; ++k) {
     const Point3 p{12 * rng.next_float() - 6, 12 * rng.next_float() - 6, 12 * rng.next_float() - 6};
+    // Every other point on a surface (a random shading normal), the others without one.
+    const Normal3 n = k % 2 ? normalize(Vec3{rng.next_float() - 0.5f, rng.next_float() - 0.5f, 0.3f}) : Normal3{};
     double sum = 0;
     for (int i = 0; i < int(r.lights.size()); ++i) {
-      const Float pmf = v.pmf(i, p);
+      const Float pmf = v.pmf(i, p, n);
       sum += pmf;
       if (r.lights[size_t(i)].is_infinite() || !(r.power[size_t(i)] > 0))
         EXPECT_EQ(pmf, 0) << "light " << i << " is not in the tree";
@@ -88,17 +90,20 @@ TEST(LightTree, SamplesFollowThePmfChiSquare) {
   const LightTreeView v = t.view();
   const int n = int(r.lights.size());
   const Point3 points[] = {{0, 0, 0}, {4.5f, -4.5f, 2}, {-6, 5, -1}};
+  const Normal3 normals[] = {{0, 1, 0}, {}, normalize(Vec3{1, 1, 0})};  // {}: no surface
   PCG32 rng(test::chi2_seed(21), 2);
-  for (const Point3& p : points) {
+  for (int q = 0; q < 3; ++q) {
+    const Point3 p = points[q];
+    const Normal3 ns = normals[q];
     test::Chi2Table table(test::uniform_edges(0, n, n), test::uniform_edges(0, 1, 1));
     for (int s = 0; s < 200000; ++s) {
       Float pmf;
-      const int li = v.sample(rng.next_float(), p, &pmf);
+      const int li = v.sample(rng.next_float(), p, ns, &pmf);
       ASSERT_GE(li, 0);
-      ASSERT_NEAR(pmf, v.pmf(li, p), 1e-5f * v.pmf(li, p)) << "sample() and pmf() disagree on light " << li;
+      ASSERT_NEAR(pmf, v.pmf(li, p, ns), 1e-5f * v.pmf(li, p, ns)) << "sample() and pmf() disagree on light " << li;
       table.add(li + 0.5, 0.5);
     }
-    auto pdf = [&](double x, double) { return double(v.pmf(int(x), p)); };
+    auto pdf = [&](double x, double) { return double(v.pmf(int(x), p, ns)); };
     EXPECT_TRUE(table.test(pdf, "light tree"));
   }
 }
@@ -113,13 +118,15 @@ TEST(LightTree, RemappedUIsUniformWithinEachLight) {
   const LightTreeView v = t.view();
   const int n = int(r.lights.size()), N = 1 << 17;
   const Point3 points[] = {{0, 0, 0}, {4.5f, -4.5f, 2}};
-  for (const Point3& p : points) {
+  const Normal3 normals[] = {{}, {0, 0, 1}};
+  for (int q = 0; q < 2; ++q) {
+    const Point3 p = points[q];
     std::vector<std::vector<Float>> remapped{size_t(n)};
     for (int k = 0; k < N; ++k) {
       const Float u = (Float(k) + 0.5f) / Float(N);
       Float pmf, pmf2, ur = -1;
-      const int li = v.sample(u, p, &pmf, &ur);
-      ASSERT_EQ(li, v.sample(u, p, &pmf2));
+      const int li = v.sample(u, p, normals[q], &pmf, &ur);
+      ASSERT_EQ(li, v.sample(u, p, normals[q], &pmf2));
       ASSERT_GE(ur, 0);
       ASSERT_LT(ur, 1);
       remapped[size_t(li)].push_back(ur);
@@ -151,12 +158,41 @@ TEST(LightTree, PrefersTheLampsThatContribute) {
   LightTreeStorage t = build_light_tree(lights, power);
   const LightTreeView v = t.view();
   const Point3 below_first{-7.5f, 0, -7.5f};
-  const Float near = v.pmf(0, below_first), far = v.pmf(255, below_first);
+  const Normal3 up{0, 1, 0};
+  const Float near = v.pmf(0, below_first, up), far = v.pmf(255, below_first, up);
   EXPECT_GT(near, 10 * far);
   EXPECT_GT(near, 5.0f / 256);
   // Above the ceiling every lamp faces away: only the power share is left, spread evenly.
   const Point3 above{0, 9, 0};
-  EXPECT_NEAR(v.pmf(0, above), 1.0f / 256, 1e-5f);
+  EXPECT_NEAR(v.pmf(0, above, up), 1.0f / 256, 1e-5f);
+}
+
+// The receiver's cosine: on a wall below the ceiling's edge (normal +x), the lamp just above
+// it lies near the wall's horizon (cos θ_i = 0.10) and one further in faces it (cos θ_i =
+// 0.94). What each contributes, cos θ cos θ_i / d², is 2.7 times more for the lamp above;
+// the bound without the surface favours it 9.4 times (distance and the lamp's own cosine),
+// with the surface less than half that (the clusters above the leaves subtend wide angles,
+// which loosen the receiver's factor there).
+TEST(LightTree, TheReceiversCosineWeighsLightsNearItsHorizonDown) {
+  std::vector<Light> lights;
+  std::vector<Float> power;
+  for (int i = 0; i < 16; ++i)
+    for (int j = 0; j < 16; ++j) {
+      lights.push_back(triangle_light(Point3{Float(i) - 7.5f, 5, Float(j) - 7.5f}, Vec3{0, -1, 0}, 0.1f, false));
+      power.push_back(1);
+    }
+  LightTreeStorage t = build_light_tree(lights, power);
+  const LightTreeView v = t.view();
+  const Point3 wall{-7.8f, 2, 0.5f};
+  const int above = 7, inward = 8 * 16 + 8;  // lamps at (−7.5, 5, 0.5) and (0.5, 5, 0.5)
+  const Float ratio_bare = v.pmf(above, wall, Normal3{}) / v.pmf(inward, wall, Normal3{});
+  const Float ratio_wall = v.pmf(above, wall, Normal3{1, 0, 0}) / v.pmf(inward, wall, Normal3{1, 0, 0});
+  EXPECT_GT(ratio_bare, 8.0f);
+  EXPECT_LT(ratio_wall, ratio_bare / 2);
+  EXPECT_GT(ratio_wall, 2.7f);  // still a bound: no lower than the contributions' ratio
+  double sum = 0;
+  for (int i = 0; i < int(lights.size()); ++i) sum += v.pmf(i, wall, Normal3{1, 0, 0});
+  EXPECT_NEAR(sum, 1.0, 1e-4);
 }
 
 // 5000 lamps: five levels of 8 lanes, so every trail step (3 bits per level) is used. The
@@ -176,15 +212,16 @@ TEST(LightTree, DeepTreesKeepTheirTrails) {
   uint32_t deepest = 0;
   for (uint32_t bits : t.trail) deepest |= bits;
   EXPECT_NE(deepest >> (4 * kLightTreeTrailBits), 0u) << "a light five levels down";
+  const Normal3 ns = normalize(Vec3{0.3f, 1, -0.2f});
   for (const Point3& p : {Point3{0, 0, 0}, Point3{8, -9, 3}}) {
     double sum = 0;
-    for (int i = 0; i < int(lights.size()); ++i) sum += v.pmf(i, p);
+    for (int i = 0; i < int(lights.size()); ++i) sum += v.pmf(i, p, ns);
     EXPECT_NEAR(sum, 1.0, 1e-4);
     for (int k = 0; k < 4000; ++k) {
       Float pmf;
-      const int li = v.sample((Float(k) + 0.5f) / 4000, p, &pmf);
+      const int li = v.sample((Float(k) + 0.5f) / 4000, p, ns, &pmf);
       ASSERT_GE(li, 0);
-      ASSERT_NEAR(pmf, v.pmf(li, p), 1e-5f * pmf) << "light " << li;
+      ASSERT_NEAR(pmf, v.pmf(li, p, ns), 1e-5f * pmf) << "light " << li;
     }
   }
 }
@@ -200,22 +237,23 @@ TEST(LightTree, VectorStepsMatchTheLaneByLaneDefinition) {
   for (const LightTreeNode& node : t.nodes)
     for (int k = 0; k < 200; ++k) {
       const Point3 p{12 * rng.next_float() - 6, 12 * rng.next_float() - 6, 12 * rng.next_float() - 6};
+      const Normal3 ns = k % 2 ? normalize(Vec3{rng.next_float() - 0.5f, rng.next_float() - 0.5f, 0.2f}) : Normal3{};
       Float imp[kLightTreeArity], want[kLightTreeArity], got[kLightTreeArity];
-      light_tree_importance(node, p, imp);
+      light_tree_importance(node, p, ns, imp);
 #if KAURI_LIGHT_TREE_AVX2
       // The lanes' bound uses the reciprocal square root estimate: within a few 1e-4 of the
       // definition, relative to the bound's distance part Φ / max(d², r²) (where cos θ' is
       // near 0 the cosine's rounding dominates, so relative to the bound itself it is not).
       Float exact[kLightTreeArity];
       for (int j = 0; j < kLightTreeArity; ++j) exact[j] = imp[j];
-      light_tree_importance_lanes(node, p, imp);
+      light_tree_importance_lanes(node, p, ns, imp);
       for (int j = 0; j < kLightTreeArity; ++j) {
         const Float d2 = sqr(p.x - node.cx[j]) + sqr(p.y - node.cy[j]) + sqr(p.z - node.cz[j]);
         ASSERT_NEAR(imp[j], exact[j], 2e-3f * node.power[j] / std::max(d2, node.radius2[j])) << j;
       }
 #endif
       light_tree_probs_scalar(node, imp, want);
-      light_tree_child_probs(node, p, got);
+      light_tree_child_probs(node, p, ns, got);
       for (int j = 0; j < kLightTreeArity; ++j) ASSERT_NEAR(got[j], want[j], 1e-6f * want[j] + 1e-30f) << j;
       const Float lo = rng.next_float() * 0.5f, width = 0.1f + rng.next_float() * 0.4f;
       const Float u = lo + rng.next_float() * width;

@@ -38,6 +38,7 @@ struct PathState {
   bool last_segment = false;
   Float prev_pdf = 0;          // BSDF pdf of the last bounce, for MIS on hit emitters
   Point3 prev_p;               // where the last bounce happened
+  Normal3 prev_n;              // its shading normal (the light tree's receiver factor)
   uint32_t lpe_state = 0;      // reserved for the LPE automaton
 
   /// Counts an event against the bounce budgets; false when this event exceeds one (the

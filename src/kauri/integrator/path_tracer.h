@@ -29,12 +29,13 @@ KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const Inte
                                                   Normal3 n_light) {
   if (st.depth == 0 || st.specular_bounce) return 1;
   Float p_light_solid =
-      s.light_pmf(light, st.prev_p, cfg.light_tree) *
+      s.light_pmf(light, st.prev_p, st.prev_n, cfg.light_tree) *
       light_pdf(s.lights[light], st.prev_p, wi, p_light, n_light, kNextEventDensity);
   return power_heuristic(st.prev_pdf, p_light_solid);
 }
 
-/// The light a next-event estimate at p samples, and the 2D sample for the point on it.
+/// The light a next-event estimate at p (shading normal n) samples, and the 2D sample for
+/// the point on it.
 /// One stratified 2D sample `u` picks the light (u.x) and, with u.x rescaled within that
 /// light's share, the point on it: the points stay stratified over all the lights
 /// together. A quad emitter is two triangle lights; with the light picked by a dimension of
@@ -45,11 +46,12 @@ struct LightChoice {
   Float pmf = 0;
   Vec2 u;  // the point's sample on the light
 };
-KAURI_HOST_DEVICE inline LightChoice choose_light(const SceneView& s, const IntegratorSettings& cfg, Point3 p, Vec2 u) {
+KAURI_HOST_DEVICE inline LightChoice choose_light(const SceneView& s, const IntegratorSettings& cfg, Point3 p, Normal3 n,
+                                                  Vec2 u) {
   LightChoice c;
   if (s.n_lights == 0) return c;
   c.u = u;
-  c.light = s.select_light(u.x, p, cfg.light_tree, &c.pmf, &c.u.x);
+  c.light = s.select_light(u.x, p, n, cfg.light_tree, &c.pmf, &c.u.x);
   return c;
 }
 
@@ -174,7 +176,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     // its choice (the pair is taken either way, so the layout never depends on the material).
     const bool scatters = hit.material >= 0 && st.depth < cfg.max_depth && !st.last_segment;
     path_detail::LightChoice light_choice;
-    if (scatters) light_choice = path_detail::choose_light(s, cfg, hit.p, sampler.get_2d());
+    if (scatters) light_choice = path_detail::choose_light(s, cfg, hit.p, hit.ns, sampler.get_2d());
     if (st.depth == 0) {
       out->hit = true;
       out->normal = hit.ns;
@@ -215,6 +217,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     st.beta *= bs.f * (absdot(bs.wi, frame.z) / bs.pdf);
     st.prev_pdf = bs.pdf;
     st.prev_p = hit.p;
+    st.prev_n = hit.ns;
     if (bs.transmission) st.eta_scale *= sqr(bs.eta);
     ++st.depth;
     if (!st.record_scatter(bs, cfg)) st.last_segment = true;

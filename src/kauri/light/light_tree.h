@@ -4,12 +4,16 @@
 // its lights' extents, a cone bounding their emission normals and their total power; NEE
 // descends from the root choosing a child with probability ∝ its importance at the point (Conty
 // Estevez & Kulla 2018, "Importance Sampling of Many Lights with Adaptive Tree Splitting",
-// §4, without the splitting). The importance bound is
-//     I = Φ cos θ' / d²,   θ' = max(0, θ − θ_o − θ_u),
+// §4, without the splitting). The importance bound is (their eq. 3)
+//     I = Φ cos θ' cos θ_i' / d²,   θ' = max(0, θ − θ_o − θ_u),   θ_i' = max(0, θ_i − θ_u),
 // with d the distance from the point to the node's centre, θ the angle between the cone
 // axis and the direction from the centre to the point, θ_o the cone's spread and θ_u the
 // angle the node's bounding sphere subtends (so I bounds every light in the node), and
-// I = 0 beyond θ' ≥ π/2 (one-sided emitters face away).
+// I = 0 beyond θ' ≥ π/2 (one-sided emitters face away). θ_i is the angle between the
+// receiver's shading normal n and the direction to the centre, taken on whichever side
+// of the surface the centre lies (|cos θ_i|), so the bound holds for transmission too;
+// lights near the surface's horizon contribute the cosine's little. A zero n (no surface)
+// drops the receiver's factor.
 //
 // Each choice mixes in a fraction of the power ratio (a defensive mixture, Hesterberg
 // 1995): every light with power keeps a nonzero probability wherever it is, so the
@@ -63,9 +67,12 @@ struct LightTreeNode {
   int child[kLightTreeArity];          // ≥ 0: the node of that child's children; < 0: −1 − light
 };
 
-/// I_k = Φ cos θ' / d² for every lane k of `node` at point p (see the header), branch-free
-/// so that the compiler evaluates the lanes side by side.
-KAURI_HOST_DEVICE inline void light_tree_importance(const LightTreeNode& n, Point3 p, Float imp[kLightTreeArity]) {
+/// I_k = Φ cos θ' cos θ_i' / d² for every lane k of `node` at point p with shading normal
+/// ns (see the header; ns = 0: no receiver factor), branch-free so that the compiler
+/// evaluates the lanes side by side.
+KAURI_HOST_DEVICE inline void light_tree_importance(const LightTreeNode& n, Point3 p, Normal3 ns,
+                                                    Float imp[kLightTreeArity]) {
+  const Float has_normal = Float(int(ns.x != 0) | int(ns.y != 0) | int(ns.z != 0));
   for (int k = 0; k < kLightTreeArity; ++k) {
     const Float vx = p.x - n.cx[k], vy = p.y - n.cy[k], vz = p.z - n.cz[k];
     const Float d2 = vx * vx + vy * vy + vz * vz, r2 = n.radius2[k];
@@ -86,7 +93,12 @@ KAURI_HOST_DEVICE inline void light_tree_importance(const LightTreeNode& n, Poin
                                 int(cos_theta < cos_phi));
     const Float cos_p =
         bounded * fmax_(cos_theta * cos_phi + sin_theta * sin_phi, Float(0)) + (1 - bounded);
-    imp[k] = n.power[k] * cos_p * inv_d2;  // unused lanes have power 0
+    // The receiver: θ_i' = max(0, θ_i − θ_u) likewise (1 inside the sphere or within θ_u).
+    const Float cos_i = fmin_(std::fabs(ns.x * vx + ns.y * vy + ns.z * vz) * inv_d, Float(1));
+    const Float sin_i = std::sqrt(fmax_(1 - cos_i * cos_i, Float(0)));
+    const Float receiver = has_normal * Float(int(d2 > r2) & int(cos_i < cos_u));
+    const Float cos_ip = receiver * fmax_(cos_i * cos_u + sin_i * sin_u, Float(0)) + (1 - receiver);
+    imp[k] = n.power[k] * cos_p * cos_ip * inv_d2;  // unused lanes have power 0
   }
 }
 
@@ -128,7 +140,7 @@ inline F32x8 sqrt_estimate(F32x8 y) { return y * _mm256_rsqrt_ps(max8(y, F32x8{}
 /// bits are the CPU's own (they differ between vendors), so the hangar-like scenes' images
 /// are reproducible per CPU model, not across them; any positive bound keeps the estimate
 /// unbiased.
-inline void light_tree_importance_lanes(const LightTreeNode& n, Point3 p, Float imp[kLightTreeArity]) {
+inline void light_tree_importance_lanes(const LightTreeNode& n, Point3 p, Normal3 ns, Float imp[kLightTreeArity]) {
   using namespace light_tree_detail;
   const F32x8 zero{}, one = zero + 1;
   const F32x8 vx = p.x - load8(n.cx), vy = p.y - load8(n.cy), vz = p.z - load8(n.cz);
@@ -147,7 +159,13 @@ inline void light_tree_importance_lanes(const LightTreeNode& n, Point3 p, Float 
   const F32x8 cos_phi = cos_o * cos_u - sin_o * sin_u, sin_phi = sin_o * cos_u + cos_o * sin_u;
   const auto bounded = (d2 > r2) & (cos_o > -1) & (sin_phi >= 0) & (cos_phi > -1) & (cos_theta < cos_phi);
   const F32x8 cos_p = bounded ? max8(cos_theta * cos_phi + sin_theta * sin_phi, zero) : one;
-  const F32x8 out = cos_p * (load8(n.power) * (inv_d * inv_d));
+  const F32x8 d_cos_i = ns.x * vx + ns.y * vy + ns.z * vz;  // ± d cos θ_i
+  const F32x8 cos_i = max8(d_cos_i, -d_cos_i) * inv_d;
+  const F32x8 sin_i = sqrt_estimate(max8(dd - d_cos_i * d_cos_i, zero)) * inv_d;
+  const bool has_normal = ns.x != 0 || ns.y != 0 || ns.z != 0;
+  const auto receiver = (d2 > r2) & (cos_i < cos_u) & (zero + Float(has_normal) > 0);
+  const F32x8 cos_ip = receiver ? max8(cos_i * cos_u + sin_i * sin_u, zero) : one;
+  const F32x8 out = (cos_p * cos_ip) * (load8(n.power) * (inv_d * inv_d));
   __builtin_memcpy(imp, &out, sizeof out);
 }
 
@@ -165,27 +183,28 @@ inline LightTreeMix light_tree_mix_lanes(__m256 i) {
 inline __m256 light_tree_probs_lanes(const LightTreeNode& node, __m256 i, LightTreeMix m) {
   return _mm256_fmadd_ps(i, m.a, _mm256_mul_ps(_mm256_loadu_ps(node.power_share), m.b));
 }
-inline __m256 light_tree_importance_vector(const LightTreeNode& node, Point3 p) {
+inline __m256 light_tree_importance_vector(const LightTreeNode& node, Point3 p, Normal3 ns) {
   alignas(32) Float imp[kLightTreeArity];
-  light_tree_importance_lanes(node, p, imp);
+  light_tree_importance_lanes(node, p, ns, imp);
   return _mm256_load_ps(imp);
 }
 
 /// light_tree_child_probs as one vector.
-inline __m256 light_tree_child_probs_lanes(const LightTreeNode& node, Point3 p) {
-  const __m256 i = light_tree_importance_vector(node, p);
+inline __m256 light_tree_child_probs_lanes(const LightTreeNode& node, Point3 p, Normal3 ns) {
+  const __m256 i = light_tree_importance_vector(node, p, ns);
   return light_tree_probs_lanes(node, i, light_tree_mix_lanes(i));
 }
 #endif
 
-/// Probabilities of descending into each lane of `node` at p (zero in unused lanes).
-KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, Point3 p,
+/// Probabilities of descending into each lane of `node` at p, shading normal ns (zero in
+/// unused lanes).
+KAURI_HOST_DEVICE inline void light_tree_child_probs(const LightTreeNode& node, Point3 p, Normal3 ns,
                                                      Float prob[kLightTreeArity]) {
 #if KAURI_LIGHT_TREE_AVX2
-  _mm256_storeu_ps(prob, light_tree_child_probs_lanes(node, p));
+  _mm256_storeu_ps(prob, light_tree_child_probs_lanes(node, p, ns));
 #else
   alignas(32) Float imp[kLightTreeArity];
-  light_tree_importance(node, p, imp);
+  light_tree_importance(node, p, ns, imp);
   light_tree_probs_scalar(node, imp, prob);
 #endif
 }
@@ -283,8 +302,9 @@ struct LightTreeView {
   const uint32_t* trail = nullptr;       // per light: kLightTreeTrailBits per level, the lane taken
   int n_nodes = 0;
 
-  /// A finite light chosen at p; *pmf its probability (0 if the tree has no power).
-  KAURI_HOST_DEVICE int sample(Float u, Point3 p, Float* pmf, Float* u_remapped = nullptr) const {
+  /// A finite light chosen at p, shading normal ns (zero: no surface); *pmf its
+  /// probability (0 if the tree has no power).
+  KAURI_HOST_DEVICE int sample(Float u, Point3 p, Normal3 ns, Float* pmf, Float* u_remapped = nullptr) const {
     *pmf = 0;
     if (n_nodes == 0) return -1;
     // u is not rescaled at each step (a division on the critical path): the interval
@@ -296,10 +316,10 @@ struct LightTreeView {
       const LightTreeNode& n = nodes[i];
       Float start, taken;
 #if KAURI_LIGHT_TREE_AVX2
-      const int chosen = light_tree_step_lanes(n, light_tree_importance_vector(n, p), u, lo, width, &start, &taken);
+      const int chosen = light_tree_step_lanes(n, light_tree_importance_vector(n, p, ns), u, lo, width, &start, &taken);
 #else
       Float pk[kLightTreeArity];
-      light_tree_child_probs(n, p, pk);
+      light_tree_child_probs(n, p, ns, pk);
       const int chosen = light_tree_choose_scalar(pk, u, lo, width, &start);
       taken = pk[chosen];
 #endif
@@ -314,8 +334,9 @@ struct LightTreeView {
       i = n.child[chosen];
     }
   }
-  /// Probability that sample() at p returns `light` (a finite light of the tree).
-  KAURI_HOST_DEVICE Float pmf(int light, Point3 p) const {
+  /// Probability that sample() at p, shading normal ns, returns `light` (a finite light of
+  /// the tree).
+  KAURI_HOST_DEVICE Float pmf(int light, Point3 p, Normal3 ns) const {
     if (n_nodes == 0) return 0;
     const uint32_t bits = trail[light];
     Float prob = 1;
@@ -323,7 +344,7 @@ struct LightTreeView {
     for (int level = 0; level < kLightTreeMaxDepth; ++level) {
       const LightTreeNode& n = nodes[i];
       Float pk[kLightTreeArity];
-      light_tree_child_probs(n, p, pk);
+      light_tree_child_probs(n, p, ns, pk);
       const int k = int((bits >> (kLightTreeTrailBits * level)) & uint32_t(kLightTreeArity - 1));
       prob *= pk[k];
       if (n.child[k] < 0) return -1 - n.child[k] == light ? prob : 0;

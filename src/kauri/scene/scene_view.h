@@ -60,12 +60,13 @@ struct SceneView {
   /// otherwise every light ∝ power. Infinite lights keep their power share either way.
   /// `u_remapped` (optional) gets u rescaled to [0,1) within the chosen light's interval,
   /// so one coordinate of a stratified 2D sample can pick the light and then a point on it.
-  KAURI_HOST_DEVICE int select_light(Float u, Point3 p, bool tree, Float* pmf, Float* u_remapped = nullptr) const {
+  KAURI_HOST_DEVICE int select_light(Float u, Point3 p, Normal3 n, bool tree, Float* pmf,
+                                     Float* u_remapped = nullptr) const {
     if (!tree || light_tree.n_nodes == 0) return light_distribution.sample_discrete(u, pmf, u_remapped);
     const Float F = finite_light_share;
     if (u < F) {
       Float pt;
-      const int li = light_tree.sample(fmin_(u / F, kOneMinusEpsilon), p, &pt, u_remapped);
+      const int li = light_tree.sample(fmin_(u / F, kOneMinusEpsilon), p, n, &pt, u_remapped);
       *pmf = F * pt;
       return li;
     }
@@ -76,10 +77,10 @@ struct SceneView {
     *pmf = (1 - F) * pi;
     return infinite_lights[k];
   }
-  /// Probability that select_light(·, p, tree) returns `light`.
-  KAURI_HOST_DEVICE Float light_pmf(int light, Point3 p, bool tree) const {
+  /// Probability that select_light(·, p, n, tree) returns `light`.
+  KAURI_HOST_DEVICE Float light_pmf(int light, Point3 p, Normal3 n, bool tree) const {
     if (!tree || light_tree.n_nodes == 0 || lights[light].is_infinite()) return light_distribution.discrete_pmf(light);
-    return finite_light_share * light_tree.pmf(light, p);
+    return finite_light_share * light_tree.pmf(light, p, n);
   }
 };
 
