@@ -145,17 +145,25 @@ TEST(LightTree, RemappedUIsUniformWithinEachLight) {
   }
 }
 
-// A hangar ceiling: 16 × 16 equal lamps facing down. Below one lamp, the tree picks it far
-// more often than a lamp in the far corner, where power alone would pick both alike.
-TEST(LightTree, PrefersTheLampsThatContribute) {
+/// A hangar ceiling: 16 × 16 equal lamps facing down at height 5, one unit apart, lamp
+/// 16 i + j at (i − 7.5, 5, j − 7.5).
+struct Ceiling {
   std::vector<Light> lights;
   std::vector<Float> power;
-  for (int i = 0; i < 16; ++i)
-    for (int j = 0; j < 16; ++j) {
-      lights.push_back(triangle_light(Point3{Float(i) - 7.5f, 5, Float(j) - 7.5f}, Vec3{0, -1, 0}, 0.1f, false));
-      power.push_back(1);
-    }
-  LightTreeStorage t = build_light_tree(lights, power);
+  Ceiling() {
+    for (int i = 0; i < 16; ++i)
+      for (int j = 0; j < 16; ++j) {
+        lights.push_back(triangle_light(Point3{Float(i) - 7.5f, 5, Float(j) - 7.5f}, Vec3{0, -1, 0}, 0.1f, false));
+        power.push_back(1);
+      }
+  }
+};
+
+// Below one lamp of the ceiling, the tree picks it far more often than a lamp in the far
+// corner, where power alone would pick both alike.
+TEST(LightTree, PrefersTheLampsThatContribute) {
+  const Ceiling c;
+  LightTreeStorage t = build_light_tree(c.lights, c.power);
   const LightTreeView v = t.view();
   const Point3 below_first{-7.5f, 0, -7.5f};
   const Normal3 up{0, 1, 0};
@@ -174,14 +182,9 @@ TEST(LightTree, PrefersTheLampsThatContribute) {
 // with the surface less than half that (the clusters above the leaves subtend wide angles,
 // which loosen the receiver's factor there).
 TEST(LightTree, TheReceiversCosineWeighsLightsNearItsHorizonDown) {
-  std::vector<Light> lights;
-  std::vector<Float> power;
-  for (int i = 0; i < 16; ++i)
-    for (int j = 0; j < 16; ++j) {
-      lights.push_back(triangle_light(Point3{Float(i) - 7.5f, 5, Float(j) - 7.5f}, Vec3{0, -1, 0}, 0.1f, false));
-      power.push_back(1);
-    }
-  LightTreeStorage t = build_light_tree(lights, power);
+  const Ceiling c;
+  const std::vector<Light>& lights = c.lights;
+  LightTreeStorage t = build_light_tree(c.lights, c.power);
   const LightTreeView v = t.view();
   const Point3 wall{-7.8f, 2, 0.5f};
   const int above = 7, inward = 8 * 16 + 8;  // lamps at (−7.5, 5, 0.5) and (0.5, 5, 0.5)
