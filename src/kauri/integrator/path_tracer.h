@@ -202,7 +202,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
       out->albedo = bsdf.albedo(frame.to_local(wo));
       out->albedo_set = true;
     }
-    if (st.depth >= cfg.max_depth || st.last_segment) break;
+    if (!scatters) break;  // a bounce budget is spent (pure emitters broke off above)
 
     if (bsdf.has_non_specular()) {
       SampledSpectrum Ld =

@@ -174,12 +174,13 @@ inline void light_tree_importance_lanes(const LightTreeNode& n, Point3 p, Normal
 struct LightTreeMix {
   __m256 a, b;
 };
-inline LightTreeMix light_tree_mix_lanes(__m256 i) {
-  const __m256 sum = lanes::lane_sum(i);
+/// From the bounds' sum S in every lane (S = 0: the power shares alone).
+inline LightTreeMix light_tree_mix_of_sum(__m256 sum) {
   const __m256 bounded = _mm256_cmp_ps(sum, _mm256_setzero_ps(), _CMP_GT_OQ);
   return {_mm256_and_ps(bounded, _mm256_div_ps(_mm256_set1_ps(1 - kLightTreePowerShare), sum)),
           _mm256_blendv_ps(_mm256_set1_ps(1), _mm256_set1_ps(kLightTreePowerShare), bounded)};
 }
+inline LightTreeMix light_tree_mix_lanes(__m256 i) { return light_tree_mix_of_sum(lanes::lane_sum(i)); }
 inline __m256 light_tree_probs_lanes(const LightTreeNode& node, __m256 i, LightTreeMix m) {
   return _mm256_fmadd_ps(i, m.a, _mm256_mul_ps(_mm256_loadu_ps(node.power_share), m.b));
 }
@@ -289,7 +290,7 @@ inline int light_tree_step_lanes(const LightTreeNode& node, __m256 i, Float u, F
   const __m256 pass_bounds = _mm256_cmp_ps(lhs, _mm256_mul_ps(u_lo, sum), _CMP_LE_OQ);
   const int chosen = light_tree_highest_lane(_mm256_and_ps(_mm256_blendv_ps(pass_power, pass_bounds, bounded), has_power));
   // Beside the next level: the probabilities and the chosen share's start.
-  const LightTreeMix m = light_tree_mix_lanes(i);
+  const LightTreeMix m = light_tree_mix_of_sum(sum);
   const __m256 before = _mm256_fmadd_ps(ci, m.a, _mm256_mul_ps(share_before, m.b));
   *start = light_tree_lane(_mm256_fmadd_ps(before, _mm256_set1_ps(width), _mm256_set1_ps(lo)), chosen);
   *taken = light_tree_lane(light_tree_probs_lanes(node, i, m), chosen);
