@@ -907,6 +907,84 @@ def _measure_rung(rnd, renderers, desc, spp, res, runs, seed0):
     return done, failed
 
 
+# Section 2's ratios come with a bootstrap interval: the rounds of each rung are resampled
+# with replacement (the same rounds for every renderer: round k of each ran within the same
+# seconds of the machine) and the whole fit is redone per resample. It covers the noise of
+# the relMSE estimates (K renders each) and of the timings together, which neither the
+# ratio nor the per-round time spread shows alone.
+BOOTSTRAP_RESAMPLES = 200
+BOOTSTRAP_SEED = 20261203
+BOOTSTRAP_QUANTILES = (5, 95)  # a 90% interval
+
+
+def bootstrap_counts(runs, n_boot=BOOTSTRAP_RESAMPLES, seed=BOOTSTRAP_SEED):
+    """(n_boot, runs) multiplicities: how often each round appears in each resample."""
+    draws = np.random.default_rng(seed).integers(0, runs, size=(n_boot, runs))
+    return np.stack([np.bincount(d, minlength=runs) for d in draws]).astype(np.float64)
+
+
+def resampled_relmse(runs, ref, counts, eps=REL_EPS):
+    """relmse_from_runs of every resample at once: counts (B, K) are the multiplicities of
+    the K renders `runs` (K, ...) in each resample (all ones: the renders themselves)."""
+    runs = np.asarray(runs, np.float64)
+    k = runs.shape[0]
+    x = runs.reshape(k, -1)
+    s1, s2 = counts @ x, counts @ (x * x)
+    var = np.maximum(s2 - s1 * s1 / k, 0.0) / (k - 1)
+    w = 1.0 / (np.asarray(ref, np.float64).reshape(-1) ** 2 + eps)
+    return var @ w / x.shape[1]
+
+
+def resampled_medians(values, counts):
+    """Median of each resample of `values` (K,) with multiplicities counts (B, K)."""
+    values = np.asarray(values, np.float64)
+    return np.array([np.median(np.repeat(values, c.astype(int))) for c in counts])
+
+
+def bootstrap_rung(imgs, times, ref, ref_block, counts):
+    """One renderer's rung, resampled: relMSE per pixel and over blocks, and the median time."""
+    return {"pixel": resampled_relmse(imgs, ref, counts),
+            "block": resampled_relmse(to_blocks(imgs), ref_block, counts),
+            "time": resampled_medians(times, counts)}
+
+
+def ratio_interval(peer_boot, kauri_boot, spps, metric, min_spp, marginal=False, q=BOOTSTRAP_QUANTILES):
+    """Percentile interval of time_peer / time_kauri at equal error over the resamples.
+    `*_boot`: per rung, bootstrap_rung's arrays. The target error cancels in the ratio
+    (t = c / target for both), so each resample's ratio is c_peer / c_kauri. Resamples where
+    a variance came out 0 (every draw the same render) are left out. None if none is left."""
+    def fits(boot):
+        err = np.array([b[metric] for b in boot])   # (rungs, B)
+        t = np.array([b["time"] for b in boot])
+        out = []
+        for i in range(err.shape[1]):
+            if not np.all(err[:, i] > 0):
+                out.append(np.nan)
+            elif marginal:
+                out.append(marginal_efficiency(spps, err[:, i], t[:, i])[0])
+            else:
+                out.append(efficiency(spps, err[:, i], t[:, i], min_spp))
+        return np.array(out)
+    r = fits(peer_boot) / fits(kauri_boot)
+    r = r[np.isfinite(r)]
+    if r.size == 0:
+        return None
+    lo, hi = np.percentile(r, q)
+    return float(lo), float(hi)
+
+
+def _interval(data, scene, renderer, metric, key):
+    v = data.get(scene, {}).get("renderers", {}).get(renderer, {})
+    return v.get("fit", {}).get(metric, {}).get(key) if v.get("status") == "ok" else None
+
+
+def fmt_ratio(x, interval):
+    """A ratio with its bootstrap interval: '1.08 [0.95–1.21]'."""
+    if x is None or interval is None:
+        return fmt_g(x)
+    return f"{fmt_g(x)} [{fmt_g(interval[0])}–{fmt_g(interval[1])}]"
+
+
 def round_time_ratios(peer_times, kauri_times):
     """Per-round time_peer / time_kauri of one interleaved rung: (min, median, max)."""
     q = np.asarray(peer_times, np.float64) / np.asarray(kauri_times, np.float64)
@@ -962,6 +1040,7 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
             continue
         ref_block = to_blocks(ref)
         rungs = {r: [] for r in renderers}
+        boot = {r: [] for r in renderers}  # per rung, bootstrap_rung's arrays (kept out of results.json)
         live = list(renderers)
         for spp in cfg.ladder:
             t = time.perf_counter()
@@ -975,6 +1054,8 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
                 rung["relmse"] = {"pixel": relmse_from_runs(imgs, ref),
                                   "block": relmse_from_runs(to_blocks(imgs), ref_block)}
                 rungs[r].append(rung)
+                boot[r].append(bootstrap_rung(imgs, rung["times"], ref, ref_block,
+                                              bootstrap_counts(len(rung["times"]), seed=BOOTSTRAP_SEED + spp)))
                 log(f"speed {name}: {r:16s} {spp:5d} spp  {rung['time'] * 1e3:8.1f} ms/render  "
                     f"relMSE {rung['relmse']['pixel']:.3e} (4x4 blocks {rung['relmse']['block']:.3e})  "
                     f"cpu/wall {rung['cpu_over_wall']:.2f}  first call {rung['first_call_s']:.2f} s")
@@ -985,11 +1066,17 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
         scene["renderers"] = {r: scene["renderers"][r] for r in renderers if r in scene["renderers"]}
         ok = {r: v for r, v in scene["renderers"].items() if v["status"] == "ok"}
         if KAURI in ok:
+            spps = [g["spp"] for g in ok[KAURI]["rungs"]]
             for m in METRICS:
                 target = scene["target"][m] = ok[KAURI]["rungs"][-1]["relmse"][m]
-                for v in ok.values():
+                for r, v in ok.items():
                     v["fit"][m]["time_to_target"] = time_to_error(v["fit"][m]["c"], target)
                     v["fit"][m]["time_to_target_marginal"] = time_to_error(v["fit"][m]["c_marginal"], target)
+                    if r != KAURI:
+                        v["fit"][m]["ratio_interval"] = ratio_interval(boot[r], boot[KAURI], spps, m,
+                                                                       cfg.fit_min_spp)
+                        v["fit"][m]["ratio_interval_marginal"] = ratio_interval(boot[r], boot[KAURI], spps, m,
+                                                                                cfg.fit_min_spp, marginal=True)
         try:
             plot_speed(name, scene, os.path.join(out_dir, f"speed_{name}.png"))
         except Exception as e:  # noqa: BLE001
@@ -1023,7 +1110,8 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
         ratios = ratio_table(ttt)
         gm = geometric_means(ratios)
         summary[m] = {"time_to_target": ttt, "ratios": ratios, "geometric_mean": gm}
-        rows = [[n] + [fmt_g(ratios.get(n, {}).get(r)) for r in peers_] for n in names]
+        rows = [[n] + [fmt_ratio(ratios.get(n, {}).get(r), _interval(data, n, r, m, "ratio_interval"))
+                       for r in peers_] for n in names]
         rows.append(["geometric mean"] + [fmt_g(gm.get(r)) for r in peers_])
         ratio_md = md_table(["scene"] + [f"{r} / kauri" for r in peers_], rows)
         trows = [[n, fmt_g(data[n]["target"].get(m))] + [fmt_g(ttt[n].get(r)) for r in renderers] for n in names]
@@ -1032,7 +1120,10 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
         print(f"\n{title}: ratio time_peer / time_kauri at equal error (> 1: kauri is faster):\n" + ratio_md + "\n",
               flush=True)
         md += [f"### {title}", "",
-               "Ratio time_peer / time_kauri to reach the same error (> 1 means kauri is faster):", "", ratio_md, "",
+               "Ratio time_peer / time_kauri to reach the same error (> 1 means kauri is faster), with its "
+               f"{BOOTSTRAP_QUANTILES[1] - BOOTSTRAP_QUANTILES[0]}% bootstrap interval in brackets "
+               f"({BOOTSTRAP_RESAMPLES} resamples of the interleaved rounds, the fit redone on each):", "",
+               ratio_md, "",
                "Time to reach it (s):", "", ttt_md, ""]
     # How far the timing alone moves within this run: the rounds of a rung are interleaved,
     # so round k of every renderer ran within the same few seconds.
@@ -1062,7 +1153,8 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
         ratios = ratio_table(ttt)
         gm = geometric_means(ratios)
         summary[m]["marginal"] = {"time_to_target": ttt, "ratios": ratios, "geometric_mean": gm}
-        rows = [[n] + [fmt_g(ratios.get(n, {}).get(r)) for r in peers_] for n in names]
+        rows = [[n] + [fmt_ratio(ratios.get(n, {}).get(r), _interval(data, n, r, m, "ratio_interval_marginal"))
+                       for r in peers_] for n in names]
         rows.append(["geometric mean"] + [fmt_g(gm.get(r)) for r in peers_])
         orows = [[n] + [f"{1e3 * v['fit'][m]['overhead_s']:.0f}" if v.get("status") == "ok" else "–"
                         for v in (data[n]["renderers"].get(r, {}) for r in renderers)] for n in names]
@@ -1071,7 +1163,7 @@ def section_speed(cfg, names, renderers, skipped, rnd, out_dir, log):
         md += [f"### {title}, per-call overhead excluded", "",
                "Each renderer's cost per sample from its top two rungs, times the top rung's spp and relMSE "
                "(`marginal_efficiency`): the ratio a long render sees, where a fixed cost per render call "
-               "no longer matters. Ratio time_peer / time_kauri:", "", marg_md, "",
+               "no longer matters. Ratio time_peer / time_kauri, bootstrap interval in brackets:", "", marg_md, "",
                "Per-call overhead, t_top − spp_top × cost per sample (ms):", "",
                md_table(["scene"] + list(renderers), orows), ""]
     data["_summary"] = summary

@@ -164,3 +164,61 @@ def test_vector_isa_names_the_widest_extension():
     assert suite.vector_isa() in {"AVX-512", "AVX2", "SSE"} or suite.vector_isa() == suite.platform.machine()
     assert "16 lanes" in suite.drjit_lanes_md(("znver5", 16))
     assert "no LLVM variant" in suite.drjit_lanes_md(None)
+
+
+def test_bootstrap_counts_resample_every_round_with_replacement():
+    counts = suite.bootstrap_counts(8, n_boot=50, seed=3)
+    assert counts.shape == (50, 8)
+    assert np.all(counts.sum(axis=1) == 8)
+    assert np.any(counts.max(axis=1) > 1)           # some rounds drawn twice
+    assert np.array_equal(counts, suite.bootstrap_counts(8, n_boot=50, seed=3))  # reproducible
+
+
+def test_resampled_relmse_and_medians_match_the_resamples_taken_one_by_one():
+    rng = np.random.default_rng(7)
+    k, shape = 6, (8, 8, 3)
+    ref = rng.uniform(0.1, 2.0, shape)
+    runs = ref + 0.1 * rng.standard_normal((k,) + shape)
+    times = rng.uniform(0.5, 1.5, k)
+    counts = np.vstack([np.ones(k), suite.bootstrap_counts(k, n_boot=20, seed=1)])
+    fast = suite.resampled_relmse(runs, ref, counts)
+    med = suite.resampled_medians(times, counts)
+    assert fast[0] == pytest.approx(suite.relmse_from_runs(runs, ref))
+    for i, c in enumerate(counts):
+        idx = np.repeat(np.arange(k), c.astype(int))
+        assert fast[i] == pytest.approx(suite.relmse_from_runs(runs[idx], ref), rel=1e-9)
+        assert med[i] == pytest.approx(np.median(times[idx]))
+
+
+def _synthetic_ladder(rng, variance, spps, k, ms_per_sample, ref):
+    """One renderer's rungs: K renders of noise variance `variance` / spp, timings with 5%
+    jitter around spp x ms_per_sample, resampled by bootstrap_rung."""
+    boot = []
+    for spp in spps:
+        imgs = ref + np.sqrt(variance / spp) * rng.standard_normal((k,) + ref.shape)
+        times = spp * ms_per_sample * 1e-3 * (1 + 0.05 * rng.standard_normal(k))
+        counts = suite.bootstrap_counts(k, seed=suite.BOOTSTRAP_SEED + spp)
+        boot.append(suite.bootstrap_rung(imgs, times, ref, suite.to_blocks(ref), counts))
+    return boot
+
+
+@pytest.mark.parametrize("marginal", [False, True])
+def test_ratio_interval_covers_the_true_ratio_and_collapses_for_identical_renderers(marginal):
+    rng = np.random.default_rng(11)
+    spps, k = [16, 64, 256], 8
+    ref = rng.uniform(0.2, 1.0, (32, 32, 3))
+    kauri = _synthetic_ladder(rng, 0.04, spps, k, 1.0, ref)
+    # Twice kauri's variance at the same speed: the peer needs twice the time (ratio 2).
+    peer = _synthetic_ladder(rng, 0.08, spps, k, 1.0, ref)
+    for metric in ("pixel", "block"):
+        lo, hi = suite.ratio_interval(peer, kauri, spps, metric, min_spp=16, marginal=marginal)
+        assert lo < 2.0 < hi
+        assert hi - lo < 1.0     # informative, not anything at all
+        same = suite.ratio_interval(kauri, kauri, spps, metric, min_spp=16, marginal=marginal)
+        assert same == pytest.approx((1.0, 1.0))
+
+
+def test_fmt_ratio_prints_the_interval_when_there_is_one():
+    assert suite.fmt_ratio(1.0789, (0.951, 1.214)) == "1.08 [0.951–1.21]"
+    assert suite.fmt_ratio(1.0789, None) == "1.08"
+    assert suite.fmt_ratio(None, (1.0, 2.0)) == "–"
