@@ -144,7 +144,6 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
                                   const HitRecord* primary = nullptr, bool primary_found = false) {
   PathState st;
   EmissionCache emission;
-  const Vec3 cam_fwd = s.camera.forward();
   for (;;) {
     HitRecord h;
     ++out->rays;
@@ -180,7 +179,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     if (st.depth == 0) {
       out->hit = true;
       out->normal = hit.ns;
-      out->depth = hit.t * dot(ray.d, cam_fwd);
+      out->depth = hit.t * dot(ray.d, s.camera_forward);
     }
     if (hit.light >= 0 && !(st.depth == 0 && path_detail::add_area_seen_directly(s.lights[hit.light], hit.ng, wo, out))) {
       const Light& l = s.lights[hit.light];

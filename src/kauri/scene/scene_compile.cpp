@@ -579,6 +579,7 @@ std::unique_ptr<CompiledScene> Scene::compile(int width, int height) const {
   v.infinite_distribution = c.infinite_distribution_.view();
   v.finite_light_share = c.finite_light_share_;
   v.camera = cam;
+  v.camera_forward = cam.forward();
   v.illuminant = Spectrum::make_dense(*cs.illuminant);
   for (int r = 0; r < 3; ++r)
     for (int k = 0; k < 3; ++k) v.xyz_to_rgb[r][k] = cs.xyz_to_rgb[r][k];
