@@ -1316,6 +1316,12 @@ def _last_json(text):
     return {}
 
 
+def fmt_mem_delta(kib):
+    """peak − baseline in MiB; negative (two processes' build peaks differing by more than the
+    render added) marked with *."""
+    return f"{kib / 1024:.0f}" + ("*" if kib < 0 else "")
+
+
 def section_memory(cfg, names, renderers, threads, log):
     res, spp = cfg.mem_res, cfg.mem_spp
     data, rows = {}, []
@@ -1332,7 +1338,7 @@ def section_memory(cfg, names, renderers, threads, log):
                 continue
             data[name][r] = {"status": "ok", "baseline_kib": base, "peak_kib": peak,
                              "vmhwm_kib": [_last_json(out0).get("vmhwm_kib"), _last_json(out1).get("vmhwm_kib")]}
-            rows.append([name, r, f"{base / 1024:.0f}", f"{peak / 1024:.0f}", f"{(peak - base) / 1024:.0f}"])
+            rows.append([name, r, f"{base / 1024:.0f}", f"{peak / 1024:.0f}", fmt_mem_delta(peak - base)])
     table = md_table(["scene", "renderer", "baseline (MiB)", "peak (MiB)", "peak − baseline (MiB)"], rows)
     print("\n" + table + "\n", flush=True)
     md = [f"Each figure is the peak resident set (`ru_maxrss` from `os.wait4`) of a fresh Python "
@@ -1341,7 +1347,9 @@ def section_memory(cfg, names, renderers, threads, log):
           f"Blender, in the bpy environment's Python), 'peak' does the same and renders once "
           f"({res}×{res} px, {spp} spp, {threads} threads; for LLVM variants including the kernel "
           f"compile or its load from the disk cache). Mitsuba subprocesses do not load kauri. "
-          f"Python and NumPy are in both figures; peak − baseline is what rendering adds.", "", table, ""]
+          f"Python and NumPy are in both figures; peak − baseline is what rendering adds. The two are "
+          f"separate processes, so their building peaks can differ: a difference below zero (marked *) "
+          f"means rendering added less than that noise, not that it freed memory.", "", table, ""]
     return data, md
 
 

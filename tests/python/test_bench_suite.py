@@ -222,3 +222,8 @@ def test_fmt_ratio_prints_the_interval_when_there_is_one():
     assert suite.fmt_ratio(1.0789, (0.951, 1.214)) == "1.08 [0.951–1.21]"
     assert suite.fmt_ratio(1.0789, None) == "1.08"
     assert suite.fmt_ratio(None, (1.0, 2.0)) == "–"
+
+
+def test_memory_deltas_below_zero_are_marked_as_noise():
+    assert suite.fmt_mem_delta(5 * 1024) == "5"
+    assert suite.fmt_mem_delta(-30 * 1024) == "-30*"
