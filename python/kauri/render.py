@@ -108,9 +108,10 @@ def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0
     replays the recorded rays through the accelerator alone (Embree's rtcIntersect1 /
     rtcOccluded1 and the direct tests of a root group's few spheres and disks, ``threads``
     threads; every query alone, although the render traces each pixel's camera rays as
-    packets of 8), alternately, and keeps the best time of each. Returns the counts and times, plus ``render_rays_per_second``,
-    ``embree_rays_per_second`` and their ratio ``fraction_of_embree`` (1 = the path tracer
-    costs nothing beyond traversal). ``hits_match`` checks the replay found the same hits.
+    packets of 8), alternately, and keeps the best time of each. Returns the counts and
+    times, plus ``render_rays_per_second``, ``embree_rays_per_second`` and their ratio
+    ``fraction_of_embree`` (1 = the path tracer costs nothing beyond traversal).
+    ``hits_match`` checks the replay found the same hits.
     ``aovs`` as in render(): the timed render computes the AOVs unless it is False."""
     w, h = _check_render_args("ray_replay", scene, resolution, spp, seed, threads)
     d = dict(_core.ray_replay(scene._core, w, h, int(spp), int(seed), int(threads), sampler, int(max_depth),

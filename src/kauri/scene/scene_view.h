@@ -46,8 +46,8 @@ struct SceneView {
   Float finite_light_share = 0;           // probability that NEE picks a finite light
 
   Camera camera;
-  Vec3 camera_forward{0, 0, -1};         // camera.forward(), once per scene (the depth AOV; per path it
-                                          // cost 2% of the hangar's render)
+  Vec3 camera_forward{0, 0, -1};         // camera.forward(), set with `camera` by Scene::compile (the
+                                          // depth AOV; computed per path it cost 2% of the hangar's render)
   Spectrum illuminant;                    // working-space white, Y = 1 (albedo AOV)
   Float xyz_to_rgb[3][3];                 // XYZ → working space
   WavelengthDistribution wavelengths;     // path wavelengths, matched to the working space
