@@ -63,7 +63,8 @@ def _cmd_render(args) -> int:
         result = render(scene, spp=args.spp, resolution=(w, h), seed=args.seed, threads=args.threads,
                         time_limit=args.time_limit, max_depth=args.max_depth, clamp=clamp,
                         sampler=args.sampler, reconstruction=args.reconstruction, progress=not args.quiet,
-                        aovs=not args.no_aovs, light_sampler=args.light_sampler, rr_depth=args.rr_depth)
+                        aovs=not args.no_aovs, light_sampler=args.light_sampler, rr_depth=args.rr_depth,
+                        light_aa=args.light_aa)
     except (SceneError, ValueError) as e:
         print(f"kauri: error: {e}", file=sys.stderr)
         return 2
@@ -97,6 +98,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--rr-depth", type=int, default=4, metavar="N",
                    help="diffuse bounces before Russian roulette may end a path (default 4; "
                         "above the diffuse budget: no roulette)")
+    r.add_argument("--light-aa", type=int, default=4, metavar="E",
+                   help="light antialiasing: extra camera rays per sample, gathering only the lights "
+                        "seen directly, in pixels where a probe finds their edges (default 4; 0 = off)")
     r.add_argument("--clamp", type=float, default=None, metavar="C",
                    help=f"clamp indirect sample luminance to C; 0 = off (default: off, or {DEMO_CLAMP:g} "
                         "for the demo scene, which tames its glass caustics)")

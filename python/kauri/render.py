@@ -11,7 +11,7 @@ from .scene import Scene, SceneError
 
 _RENDER_KEYS = ("spp", "resolution", "seed", "threads", "time_limit", "sampler", "max_depth", "max_diffuse",
                 "max_glossy", "max_transmission", "rr_depth", "clamp", "filter", "filter_radius", "filter_sigma", "reconstruction",
-                "progress", "aovs", "light_sampler")
+                "progress", "aovs", "light_sampler", "light_aa")
 
 
 @dataclass
@@ -62,7 +62,7 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
            max_glossy: int = 8, max_transmission: int = 12, clamp: float = 0.0, filter: str = "gaussian",
            filter_radius: float = 2.0, filter_sigma: float = 0.5, reconstruction: str = "splat",
            progress: bool = False, aovs: bool = True, light_sampler: str = "tree", rr_depth: int = 4,
-           **extra) -> RenderOutput:
+           light_aa: int = 4, **extra) -> RenderOutput:
     """Renders ``scene``; returns a RenderOutput. Stops after ``spp`` samples per pixel or at
     the first pass boundary after ``time_limit`` seconds. Deterministic for a given seed,
     whatever ``threads`` is. The pixel filter is a Gaussian of std-dev ``filter_sigma``
@@ -83,7 +83,12 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
     scrambled on its own; "independent", PCG32 streams. ``rr_depth``: diffuse bounces a path
     makes before Russian roulette may end it (default 4; glossy and specular bounces do not
     count; a value above ``max_diffuse`` turns roulette off, and the bounce budgets alone end
-    paths). Roulette is unbiased: it changes noise and speed, not the expected image."""
+    paths). Roulette is unbiased: it changes noise and speed, not the expected image.
+    ``light_aa``: light antialiasing, extra camera rays per sample (default 4, 0: off) in the
+    pixels where a probe finds the edge of a light seen directly (a small lamp, a
+    silhouette against a constant sky); they gather only that light's colour, which the
+    sample's path then leaves to them. Unbiased: it lowers the coverage noise of bright
+    lights seen by the camera at a camera ray's cost instead of a path's (render/light_aa.h)."""
     if extra:
         raise SceneError(f"render: unknown parameter(s) {', '.join(map(repr, sorted(extra)))}; "
                          f"allowed: {', '.join(_RENDER_KEYS)}")
@@ -91,18 +96,26 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
     _check_integer("render", "rr_depth", rr_depth)
     if rr_depth < 0:
         raise SceneError(f"render: parameter 'rr_depth': must be >= 0, got {rr_depth}")
+    _check_light_aa("render", light_aa)
     r = _core.render(scene._core, w, h, int(spp), int(seed), int(threads), float(time_limit), sampler,
                      int(max_depth), int(max_diffuse), int(max_glossy), int(max_transmission), float(clamp),
                      filter, float(filter_radius), float(filter_sigma), reconstruction, bool(progress), bool(aovs),
-                     light_sampler, int(rr_depth))
+                     light_sampler, int(rr_depth), int(light_aa))
     return RenderOutput(r.rgba, r.albedo, r.normal, r.depth, r.stats, r.color_space, r)
+
+
+def _check_light_aa(where: str, light_aa) -> None:
+    _check_integer(where, "light_aa", light_aa)
+    if not 0 <= light_aa <= 64:
+        raise SceneError(f"{where}: parameter 'light_aa': must be in [0, 64] (extra camera rays per sample), "
+                         f"got {light_aa}")
 
 
 def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0, threads: int = 0,
                sampler: str = "zsobol", max_depth: int = 16, max_diffuse: int = 6, max_glossy: int = 8,
                max_transmission: int = 12, filter: str = "gaussian", filter_radius: float = 2.0,
                filter_sigma: float = 0.5, reconstruction: str = "splat", max_rays: int = 50_000_000,
-               repeats: int = 3, aovs: bool = True) -> dict:
+               repeats: int = 3, aovs: bool = True, light_aa: int = 4) -> dict:
     """Closeness to the limit: traces ``scene``'s paths on one thread recording every ray
     query, then ``repeats`` times renders it as render() would (multi-threaded, timed) and
     replays the recorded rays through the accelerator alone (Embree's rtcIntersect1 /
@@ -112,11 +125,14 @@ def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0
     times, plus ``render_rays_per_second``, ``embree_rays_per_second`` and their ratio
     ``fraction_of_embree`` (1 = the path tracer costs nothing beyond traversal).
     ``hits_match`` checks the replay found the same hits.
-    ``aovs`` as in render(): the timed render computes the AOVs unless it is False."""
+    ``aovs`` and ``light_aa`` as in render() (the extra camera rays are recorded and
+    replayed like every other ray)."""
     w, h = _check_render_args("ray_replay", scene, resolution, spp, seed, threads)
+    _check_light_aa("ray_replay", light_aa)
     d = dict(_core.ray_replay(scene._core, w, h, int(spp), int(seed), int(threads), sampler, int(max_depth),
                               int(max_diffuse), int(max_glossy), int(max_transmission), filter, float(filter_radius),
-                              float(filter_sigma), reconstruction, int(max_rays), int(repeats), bool(aovs)))
+                              float(filter_sigma), reconstruction, int(max_rays), int(repeats), bool(aovs),
+                              int(light_aa)))
     d["render_rays_per_second"] = d["render_rays"] / d["render_seconds"] if d["render_seconds"] > 0 else 0.0
     t = d["replay_closest_seconds"] + d["replay_shadow_seconds"]
     d["embree_rays_per_second"] = (d["closest_rays"] + d["shadow_rays"]) / t if t > 0 else 0.0

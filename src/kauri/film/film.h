@@ -119,8 +119,10 @@ inline void filter_weights(const PixelFilter& f, Float p, int i0, int i1, Float*
 }
 
 namespace film_detail {
-/// Adds w · v to a pixel's (rgb, alpha) sums and w to its weight. On the CPU the four
-/// sums are one 4-wide double operation (GCC/Clang vector type, AVX with x86-64-v3).
+/// Adds w · v to a pixel's (rgb, alpha) sums and, with kAddWeight, w to its weight. On the
+/// CPU the four sums are one 4-wide double operation (GCC/Clang vector type, AVX with
+/// x86-64-v3).
+template <bool kAddWeight = true>
 inline void accumulate(PixelAccum& a, double w, const double v[4]) {
 #if defined(__GNUC__) || defined(__clang__)
   typedef double F64x4 __attribute__((vector_size(32)));
@@ -133,7 +135,7 @@ inline void accumulate(PixelAccum& a, double w, const double v[4]) {
   for (int k = 0; k < 3; ++k) a.rgb[k] += w * v[k];
   a.alpha += w * v[3];
 #endif
-  a.weight += w;
+  if (kAddWeight) a.weight += w;
 }
 
 /// The first of the 4 pixel centres (along one axis) within a radius-2 support
@@ -164,6 +166,7 @@ inline bool gaussian_weights4(const PixelFilter& f, Float q, Float p, int* first
 /// whose support holds exactly 4 pixel centres per axis, wholly inside the image. Fixed
 /// trip counts, so the 16 accumulations unroll, with no clipping or trimming of
 /// zero-weight ends. False (nothing added) where that does not apply.
+template <bool kAddWeight>
 inline bool splat_gaussian_4x4(const FilmView& film, const PixelFilter& f, Float q, Vec2 p, const double v[4]) {
   if (f.type != FilterType::Gaussian || f.radius != 2) return false;
   int x0, y0;
@@ -172,7 +175,7 @@ inline bool splat_gaussian_4x4(const FilmView& film, const PixelFilter& f, Float
   if (x0 < 0 || y0 < 0 || x0 + 3 >= film.width || y0 + 3 >= film.height) return false;
   for (int j = 0; j < 4; ++j) {
     PixelAccum* row = &film.at(x0, y0 + j);
-    for (int i = 0; i < 4; ++i) accumulate(row[i], double(wx[i] * wy[j]), v);
+    for (int i = 0; i < 4; ++i) accumulate<kAddWeight>(row[i], double(wx[i] * wy[j]), v);
   }
   return true;
 }
@@ -183,12 +186,15 @@ inline bool splat_gaussian_4x4(const FilmView& film, const PixelFilter& f, Float
 /// lie within filter.margin() of p's pixel, which the render loop's tile phases rely on.
 /// Pixels of zero weight (outside the support) inside the span are added to as well, with
 /// nothing: no branch per pixel, and x + 0 = x.
-/// `q`: gaussian_step_ratio(filter).
+/// `q`: gaussian_step_ratio(filter). kAddWeight false: the sample adds to the pixels'
+/// sums but not to their weights Σ w, for a part of another sample's estimate that was
+/// sampled apart (the render loop's light antialiasing, render/light_aa.h).
+template <bool kAddWeight = true>
 inline void splat_sample(const FilmView& film, const PixelFilter& filter, Float q, Vec2 p, Vec3 rgb, Float alpha) {
   static_assert(offsetof(PixelAccum, alpha) == 3 * sizeof(double), "rgb and alpha must be adjacent");
   constexpr int kMaxSpan = 2 * int(kMaxFilterRadius) + 2;  // render() refuses larger radii
   const double v[4] = {double(rgb.x), double(rgb.y), double(rgb.z), double(alpha)};
-  if (film_detail::splat_gaussian_4x4(film, filter, q, p, v)) return;
+  if (film_detail::splat_gaussian_4x4<kAddWeight>(film, filter, q, p, v)) return;
   const int m = filter.margin(), px = int(std::floor(p.x)), py = int(std::floor(p.y));
   const int x0 = std::max(0, px - m), x1 = std::min(film.width - 1, px + m);
   const int y0 = std::max(0, py - m), y1 = std::min(film.height - 1, py + m);
@@ -207,7 +213,7 @@ inline void splat_sample(const FilmView& film, const PixelFilter& filter, Float 
   for (int j = by; j <= ey; ++j) {
     PixelAccum* row = &film.at(x0, y0 + j);
     const Float wrow = wy[j];
-    for (int i = bx; i <= ex; ++i) film_detail::accumulate(row[i], double(wx[i] * wrow), v);
+    for (int i = bx; i <= ex; ++i) film_detail::accumulate<kAddWeight>(row[i], double(wx[i] * wrow), v);
   }
 }
 inline void splat_sample(const FilmView& film, const PixelFilter& filter, Vec2 p, Vec3 rgb, Float alpha) {

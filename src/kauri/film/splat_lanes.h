@@ -68,8 +68,9 @@ inline float lane_sum_pairwise(__m256 a) {
 #endif
 
 /// Adds samples k < n of pixel (x, y) (film_pos[k] inside that pixel, beauty v[k] = r, g, b,
-/// α) to the film as n splat_sample calls would, up to float rounding. False, with nothing
-/// added, unless the filter is the radius-2 Gaussian and vectors are available.
+/// α) to the film as n splat_sample<kAddWeight> calls would, up to float rounding. False,
+/// with nothing added, unless the filter is the radius-2 Gaussian and vectors are available.
+template <bool kAddWeight = true>
 inline bool splat_group(const FilmView& film, const PixelFilter& f, int x, int y, const Vec2* film_pos,
                         const float (*v)[4], int n) {
 #if KAURI_SPLAT_LANES
@@ -107,7 +108,7 @@ inline bool splat_group(const FilmView& film, const PixelFilter& f, int x, int y
       PixelAccum& p = film.at(px, py);
       // rgb and alpha are adjacent doubles (PixelAccum): one 4-wide double addition.
       _mm256_storeu_pd(p.rgb, _mm256_add_pd(_mm256_loadu_pd(p.rgb), _mm256_cvtps_pd(s)));
-      p.weight += double(w_sum);
+      if (kAddWeight) p.weight += double(w_sum);
     }
   }
   return true;

@@ -90,16 +90,16 @@ KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel&
 /// only: there the throughput is 1 and the MIS weight 1 at every wavelength. Lights whose
 /// radiance is not their `Le` (material EDFs, environment images) keep the spectral
 /// estimate: false.
-KAURI_HOST_DEVICE inline bool add_area_seen_directly(const Light& l, Normal3 n, Vec3 wo, PathOutput* out) {
+KAURI_HOST_DEVICE inline bool add_area_seen_directly(const Light& l, Normal3 n, Vec3 wo, Vec3* rgb) {
   if (l.material >= 0) return false;
-  if (l.two_sided || dot(n, wo) > 0) out->rgb_exact += l.Le_rgb;
+  if (l.two_sided || dot(n, wo) > 0) *rgb += l.Le_rgb;
   return true;
 }
-KAURI_HOST_DEVICE inline bool add_seen_directly(const Light& l, Vec3 d, PathOutput* out) {
+KAURI_HOST_DEVICE inline bool add_seen_directly(const Light& l, Vec3 d, Vec3* rgb) {
   switch (l.type) {
-    case LightType::EnvConstant: out->rgb_exact += l.Le_rgb; return true;
+    case LightType::EnvConstant: *rgb += l.Le_rgb; return true;
     case LightType::Distant:
-      if (distant_cone_contains(l, d)) out->rgb_exact += l.Le_rgb / distant_cone_projected_solid_angle(l);
+      if (distant_cone_contains(l, d)) *rgb += l.Le_rgb / distant_cone_projected_solid_angle(l);
       return true;
     default: return false;
   }
@@ -135,6 +135,22 @@ KAURI_HOST_DEVICE inline Float rr_survival(Float beta_max) {
 
 }  // namespace path_detail
 
+/// The colour a camera ray's first vertex adds in the output space (PathOutput::rgb_exact
+/// of trace_path): the lights it meets directly whose radiance is their Le_rgb, given the
+/// ray's closest hit h (`found`: whether there is one). The render loop's light
+/// antialiasing (render/light_aa.h) traces extra camera rays for this term alone.
+KAURI_HOST_DEVICE inline Vec3 rgb_seen_directly(const SceneView& s, const Ray& ray, bool found, const HitRecord& h) {
+  Vec3 rgb{0, 0, 0};
+  if (!found) {
+    for (int i = 0; i < s.n_infinite_lights; ++i) path_detail::add_seen_directly(s.lights[s.infinite_lights[i]], ray.d, &rgb);
+    return rgb;
+  }
+  if (!hit_may_emit(s, h)) return rgb;  // most hits: no surface geometry needed
+  const SurfaceHit hit = compute_surface_hit(s, ray, h);
+  if (hit.light >= 0) path_detail::add_area_seen_directly(s.lights[hit.light], hit.ng, -ray.d, &rgb);
+  return rgb;
+}
+
 /// Traces one camera path. `primary`: the closest hit of `ray` when the caller has
 /// already found it (a pixel's camera rays traced as one packet), with `primary_found`
 /// saying whether there was one; null: the path traces its first ray itself.
@@ -158,7 +174,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
     if (!found) {
       for (int i = 0; i < s.n_infinite_lights; ++i) {
         int li = s.infinite_lights[i];
-        if (st.depth == 0 && path_detail::add_seen_directly(s.lights[li], ray.d, out)) continue;
+        if (st.depth == 0 && path_detail::add_seen_directly(s.lights[li], ray.d, &out->rgb_exact)) continue;
         SampledSpectrum Le = infinite_light_Le(s.lights[li], ray.d, lambda);
         if (Le.is_black()) continue;
         Float w = path_detail::emitter_mis_weight(s, cfg, st, li, ray.d, Point3{}, Normal3{});
@@ -181,7 +197,7 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
       out->normal = hit.ns;
       out->depth = hit.t * dot(ray.d, s.camera_forward);
     }
-    if (hit.light >= 0 && !(st.depth == 0 && path_detail::add_area_seen_directly(s.lights[hit.light], hit.ng, wo, out))) {
+    if (hit.light >= 0 && !(st.depth == 0 && path_detail::add_area_seen_directly(s.lights[hit.light], hit.ng, wo, &out->rgb_exact))) {
       const Light& l = s.lights[hit.light];
       // Emissive materials evaluate their EDFs in the shading frame; NEE uses the
       // geometric frame (isotropic EDFs and lobe albedos agree up to the normal).

@@ -379,13 +379,15 @@ NB_MODULE(_core, m) {
                      const std::string& sampler, int max_depth, int max_diffuse, int max_glossy, int max_transmission,
                      float clamp, const std::string& filter, float filter_radius, float filter_sigma,
                      const std::string& reconstruction, bool progress, bool aovs, const std::string& light_sampler,
-                     int rr_depth) {
+                     int rr_depth, int light_aa) {
     RenderSettings cfg = render_settings(width, height, spp, seed, threads, time_limit, sampler, max_depth, max_diffuse,
                                          max_glossy, max_transmission, clamp, filter, filter_radius, filter_sigma,
                                          reconstruction, progress);
     cfg.aovs = aovs;
     if (rr_depth < 0) throw std::invalid_argument("render: parameter 'rr_depth': must be >= 0");
     cfg.integrator.rr_min_depth = rr_depth;
+    if (light_aa < 0 || light_aa > 64) throw std::invalid_argument("render: parameter 'light_aa': must be in [0, 64]");
+    cfg.light_aa = light_aa;
     if (light_sampler == "tree") cfg.integrator.light_tree = true;
     else if (light_sampler == "power") cfg.integrator.light_tree = false;
     else
@@ -409,11 +411,14 @@ NB_MODULE(_core, m) {
                          const std::string& sampler, int max_depth, int max_diffuse, int max_glossy,
                          int max_transmission, const std::string& filter, float filter_radius, float filter_sigma,
                          const std::string& reconstruction,
-                         size_t max_rays, int repeats, bool aovs) {
+                         size_t max_rays, int repeats, bool aovs, int light_aa) {
     RenderSettings cfg = render_settings(width, height, spp, seed, threads, 0, sampler, max_depth, max_diffuse,
                                          max_glossy, max_transmission, 0, filter, filter_radius, filter_sigma,
                                          reconstruction, false);
     cfg.aovs = aovs;
+    if (light_aa < 0 || light_aa > 64)
+      throw std::invalid_argument("ray_replay: parameter 'light_aa': must be in [0, 64]");
+    cfg.light_aa = light_aa;
     RayLog log;
     ReplayResult rep;
     RenderStats stats;

@@ -18,6 +18,7 @@
 
 #include "kauri/integrator/path_tracer.h"
 #include "kauri/film/splat_lanes.h"
+#include "kauri/render/light_aa.h"
 #include "kauri/render/sample_lanes.h"
 
 namespace kauri {
@@ -101,6 +102,9 @@ struct TileContext {
   std::atomic<uint64_t>& nan_samples;
   std::vector<NaNReport>& nan_pixels;
   std::mutex& nan_mutex;
+  // Light antialiasing: per pixel 0 (not probed yet), 1 (off) or 2 (flagged); null: off.
+  uint8_t* light_aa_flags = nullptr;
+  Float light_aa_min_spread = 0;  // light_colours_differ's threshold
 };
 
 /// Settings the render loop relies on (the Python layer checks them first, with its names).
@@ -108,6 +112,7 @@ void check_settings(const RenderSettings& cfg) {
   if (cfg.width <= 0 || cfg.height <= 0) throw std::invalid_argument("render: the image size must be positive");
   if (!(cfg.filter.radius > 0 && cfg.filter.radius <= kMaxFilterRadius))
     throw std::invalid_argument("render: filter radius must be in (0, 8] pixels");
+  if (cfg.light_aa < 0 || cfg.light_aa > 64) throw std::invalid_argument("render: light_aa must be in [0, 64]");
 }
 
 /// Beauty sample into the film: splatted, or into its own pixel with weight 1.
@@ -133,12 +138,13 @@ void intersect_camera_rays(const EmbreeAccel& accel, const Ray* r, int n, HitRec
   accel.intersect_packet(r, n, h, found);
 }
 
-/// The camera ray of sample `s` of pixel (x, y): starts `sampler` on that sample and
-/// draws the film position, lens point and wavelengths (the sample's first dimensions).
-Ray camera_sample(const TileContext& c, int x, int y, uint32_t s, Sampler& sampler, Vec2* film_pos,
+/// The camera ray of sample `s` of pixel (x, y) in the sequence of `seed`: starts
+/// `sampler` on that sample and draws the film position, lens point and wavelengths (the
+/// sample's first dimensions).
+Ray camera_sample(const TileContext& c, int x, int y, uint32_t s, uint64_t seed, Sampler& sampler, Vec2* film_pos,
                   SampledWavelengths* lambda) {
   const SceneView& sv = c.scene.view();
-  sampler.start_pixel_sample(x, y, s, c.cfg.seed);
+  sampler.start_pixel_sample(x, y, s, seed);
   *film_pos =
       sample_film_position(c.cfg.reconstruction == FilmReconstruction::Splat, c.cfg.filter, x, y, sampler.get_2d());
   Vec2 u_lens;
@@ -202,6 +208,116 @@ KAURI_FORCE_INLINE void finish_sample(const TileContext& c, int x, int y, uint32
   if (c.cfg.aovs) add_sample_aovs(c, out, lambda, aov);
 }
 
+/// Camera rays of samples first … first + n − 1 (n ≤ kSampleLanes) of pixel (x, y) in the
+/// sequence of `seed`, in vector lanes where the sampler allows (sample_lanes.h). s[0]
+/// carries the sampler type and samples per pixel of that sequence; every array holds
+/// kSampleLanes entries.
+void camera_group(const TileContext& c, int x, int y, uint32_t first, int n, uint64_t seed, Sampler* s, Ray* rays,
+                  Vec2* film_pos, SampledWavelengths* lambdas) {
+  const SceneView& sv = c.scene.view();
+  if (start_pixel_samples_lanes(s, n, x, y, first, seed)) {
+    camera_rays_lanes(sv.camera, sv.wavelengths, c.cfg.reconstruction == FilmReconstruction::Splat, c.cfg.filter, x,
+                      y, s, n, rays, film_pos, lambdas);
+    return;
+  }
+  for (int k = 0; k < n; ++k) {
+    // Copies of the first sampler share its per-pixel state (ZSobol's block and seed).
+    if (k > 0) s[k] = s[0];
+    rays[k] = camera_sample(c, x, y, first + uint32_t(k), seed, s[k], &film_pos[k], &lambdas[k]);
+  }
+}
+
+/// Light antialiasing's probe of pixel (x, y) (light_aa.h): whether the colours of the
+/// lights its probe rays meet directly differ. *rays counts the probe's rays.
+template <class Accel>
+bool probe_light_edges(const TileContext& c, const Accel& accel, int x, int y, uint64_t* rays) {
+  constexpr int kN = kLightAAProbeRays;
+  static_assert(kN <= kSampleLanes, "the probe is one group of camera rays");
+  Sampler s[kSampleLanes];
+  s[0].type = c.cfg.sampler;
+  s[0].set_samples_per_pixel(kN);
+  Ray r[kSampleLanes];
+  Vec2 film_pos[kSampleLanes];
+  SampledWavelengths lambdas[kSampleLanes]{};
+  HitRecord h[kSampleLanes];
+  bool found[kSampleLanes];
+  camera_group(c, x, y, 0, kN, light_aa_probe_seed(c.cfg.seed), s, r, film_pos, lambdas);
+  intersect_camera_rays(accel, r, kN, h, found);
+  Vec3 rgb[kN];
+  for (int k = 0; k < kN; ++k) rgb[k] = probe_colour(c.scene.view(), r[k], found[k], h[k]);
+  *rays += kN;
+  return light_colours_differ(rgb, kN, c.light_aa_min_spread);
+}
+
+/// Light antialiasing's per-pixel flags at the start of a render (TileContext::
+/// light_aa_flags): 0 (to probe) where light_aa_candidates marks the pixel, else 1 (off);
+/// empty where the render has no use for it. *min_spread gets the probe's threshold.
+std::vector<uint8_t> light_aa_start(const SceneView& sv, const RenderSettings& cfg, Float* min_spread) {
+  *min_spread = kLightAASpreadShare * brightest_lamp(sv);
+  if (cfg.light_aa == 0 || !(*min_spread > 0)) return {};
+  const int margin = cfg.reconstruction == FilmReconstruction::Splat ? 1 : 1 + int(std::ceil(cfg.filter.radius));
+  std::vector<uint8_t> flags = light_aa_candidates(sv, cfg.width, cfg.height, *min_spread, margin);
+  bool any = false;
+  for (uint8_t& f : flags) {
+    any = any || f;
+    f = f ? 0 : 1;
+  }
+  if (!any) return {};
+  return flags;
+}
+
+/// Whether pixel (x, y) takes light antialiasing's extra rays: probed on its first visit.
+template <class Accel>
+bool light_aa_pixel(const TileContext& c, const Accel& accel, int x, int y, uint64_t* rays) {
+  if (!c.light_aa_flags) return false;
+  uint8_t& flag = c.light_aa_flags[size_t(y) * size_t(c.film.width) + size_t(x)];
+  if (flag == 0) flag = probe_light_edges(c, accel, x, y, rays) ? 2 : 1;
+  return flag == 2;
+}
+
+/// Light antialiasing's extra rays for camera samples first … first + n − 1 of pixel
+/// (x, y): E = cfg.light_aa rays each, points E·first … E·(first + n) − 1 of the pixel's
+/// extra sequence, each adding Le_rgb / E at its film position to the film's sums but not
+/// to their weights (light_aa.h). *rays counts them.
+template <class Accel>
+void light_aa_rays(const TileContext& c, const Accel& accel, int x, int y, uint32_t first, int n, uint64_t* rays) {
+  constexpr int kGroup = EmbreeAccel::kPacketSize;
+  const uint32_t e = uint32_t(c.cfg.light_aa);
+  const Float inv_e = 1 / Float(e);
+  Sampler s[kSampleLanes];
+  s[0].type = c.cfg.sampler;
+  s[0].set_samples_per_pixel(uint32_t(c.cfg.spp) * e);
+  Ray r[kSampleLanes];
+  Vec2 film_pos[kSampleLanes];
+  SampledWavelengths lambdas[kSampleLanes]{};
+  HitRecord h[kSampleLanes];
+  bool found[kSampleLanes];
+  float beauty[kSampleLanes][4];
+  const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
+  const uint64_t seed = light_aa_extra_seed(c.cfg.seed);
+  const uint32_t end = (first + uint32_t(n)) * e;
+  for (uint32_t g0 = first * e; g0 < end; g0 += kGroup) {
+    const int m = int(std::min<uint32_t>(kGroup, end - g0));
+    camera_group(c, x, y, g0, m, seed, s, r, film_pos, lambdas);
+    intersect_camera_rays(accel, r, m, h, found);
+    for (int k = 0; k < m; ++k) {
+      const Vec3 rgb = rgb_seen_directly(c.scene.view(), r[k], found[k], h[k]) * inv_e;
+      beauty[k][0] = rgb.x, beauty[k][1] = rgb.y, beauty[k][2] = rgb.z, beauty[k][3] = 0;
+    }
+    *rays += uint64_t(m);
+    if (splat && splat_group<false>(c.film, c.cfg.filter, x, y, film_pos, beauty, m)) continue;
+    for (int k = 0; k < m; ++k) {
+      const Vec3 rgb{beauty[k][0], beauty[k][1], beauty[k][2]};
+      if (splat) {
+        splat_sample<false>(c.film, c.cfg.filter, c.splat_q, film_pos[k], rgb, 0);
+      } else {  // filter importance: the pixel's own sums, weight 1 each for the camera samples alone
+        PixelAccum& px = c.film.at(x, y);
+        px.rgb[0] += double(rgb.x), px.rgb[1] += double(rgb.y), px.rgb[2] += double(rgb.z);
+      }
+    }
+  }
+}
+
 template <class Accel>
 void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y, uint32_t s0, uint32_t s1,
                           uint64_t* rays) {
@@ -228,25 +344,19 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   Vec3 rgb[kGroup];
   float beauty[kGroup][4];
   const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
+  const bool light_aa = light_aa_pixel(c, accel, x, y, rays);
   for (uint32_t g0 = s0; g0 < s1; g0 += kGroup) {
     const int n = int(std::min<uint32_t>(kGroup, s1 - g0));
-    if (start_pixel_samples_lanes(samplers, n, x, y, g0, c.cfg.seed)) {
-      camera_rays_lanes(sv.camera, sv.wavelengths, splat, c.cfg.filter, x, y, samplers, n, camera_rays, film_pos,
-                        lambdas);
-    } else {
-      for (int k = 0; k < n; ++k) {
-        // Copies of the first sampler share its per-pixel state (ZSobol's block and seed).
-        if (k > 0) samplers[k] = samplers[0];
-        camera_rays[k] = camera_sample(c, x, y, g0 + uint32_t(k), samplers[k], &film_pos[k], &lambdas[k]);
-      }
-    }
+    camera_group(c, x, y, g0, n, c.cfg.seed, samplers, camera_rays, film_pos, lambdas);
     intersect_camera_rays(accel, camera_rays, n, primary, primary_found);
     for (int k = 0; k < n; ++k) {
       outs[k] = PathOutput{};
       trace_path(sv, accel, c.cfg.integrator, camera_rays[k], lambdas[k], samplers[k], &outs[k], &primary[k],
                  primary_found[k]);
       *rays += outs[k].rays;
+      if (light_aa) outs[k].rgb_exact = Vec3{0, 0, 0};  // the extra rays below estimate it
     }
+    if (light_aa) light_aa_rays(c, accel, x, y, g0, n, rays);
     sample_rgb_lanes(sv, c.cfg.integrator.clamp, outs, lambdas, n, rgb);
     for (int k = 0; k < n; ++k) finish_sample(c, x, y, g0 + uint32_t(k), rgb[k], outs[k], lambdas[k], aov, beauty[k]);
     if (!(splat && splat_group(c.film, c.cfg.filter, x, y, film_pos, beauty, n)))
@@ -362,8 +472,11 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;
   std::mutex nan_mutex;
+  Float min_spread = 0;
+  std::vector<uint8_t> light_aa_flags = light_aa_start(scene.view(), cfg, &min_spread);
   TileContext ctx{scene, cfg, FilmView{film.data(), w, h}, gaussian_step_ratio(cfg.filter),
-                  aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex};
+                  aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex,
+                  light_aa_flags.empty() ? nullptr : light_aa_flags.data(), min_spread};
 
   const TileGrid grid = make_tile_grid(cfg);
   const int ts = grid.size;
@@ -444,8 +557,11 @@ RayLog record_rays(const CompiledScene& scene, const RenderSettings& cfg, size_t
   std::atomic<uint64_t> rays{0}, nan_samples{0};
   std::vector<NaNReport> nan_pixels;
   std::mutex nan_mutex;
+  Float min_spread = 0;
+  std::vector<uint8_t> light_aa_flags = light_aa_start(scene.view(), cfg, &min_spread);
   TileContext ctx{scene, cfg, FilmView{film.data(), cfg.width, cfg.height}, gaussian_step_ratio(cfg.filter),
-                  aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex};
+                  aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex,
+                  light_aa_flags.empty() ? nullptr : light_aa_flags.data(), min_spread};
   RayLog log;
   RecordingAccel rec{scene.accel(), &log, max_rays};
   uint64_t n = 0;

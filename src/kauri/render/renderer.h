@@ -9,6 +9,7 @@
 
 #include "kauri/film/film.h"
 #include "kauri/integrator/path_state.h"
+#include "kauri/render/light_aa.h"
 #include "kauri/sampler/sampler.h"
 #include "kauri/scene/scene.h"
 
@@ -27,6 +28,9 @@ struct RenderSettings {
   int tile_size = 16;         // splatting may use smaller tiles on small images (see renderer.cpp)
   bool progress = true;       // progress bar with samples/s and ETA on stderr
   bool aovs = true;           // albedo, normal and depth; false: the beauty alone (faster)
+  // Light antialiasing (render/light_aa.h): extra camera rays per sample, gathering only
+  // the lights seen directly, in pixels where a probe finds their edges; 0: off.
+  int light_aa = kLightAADefaultRays;
 };
 
 struct NaNReport {

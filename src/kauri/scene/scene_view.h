@@ -86,13 +86,22 @@ struct SceneView {
   }
 };
 
+/// The instance a hit lies in (SceneView::instances; 0: the root's shapes).
+KAURI_HOST_DEVICE inline int hit_instance(const SceneView& s, const HitRecord& h) {
+  return h.inst == ~0u ? 0 : int(h.inst) - s.n_root_shapes + 1;
+}
+
+/// Whether a hit lies on an emissive shape (one with lights), without its surface geometry.
+KAURI_HOST_DEVICE inline bool hit_may_emit(const SceneView& s, const HitRecord& h) {
+  return s.emitter_first_light[s.instances[hit_instance(s, h)].shape_slot_base + int(h.geom)] >= 0;
+}
+
 /// Turns an accelerator hit into world-space surface geometry. Inlined into the path loop
 /// (its one caller): out of line, the call, register saves and the SurfaceHit returned
 /// through memory were ~45 of its ~250 instructions a hit.
 KAURI_HOST_DEVICE KAURI_FORCE_INLINE SurfaceHit compute_surface_hit(const SceneView& s, const Ray& ray, const HitRecord& h) {
   SurfaceHit sh;
-  int inst = h.inst == ~0u ? 0 : int(h.inst) - s.n_root_shapes + 1;
-  const InstanceView& I = s.instances[inst];
+  const InstanceView& I = s.instances[hit_instance(s, h)];
   const ShapeView& shape = s.groups[I.group].shapes[h.geom];
   Ray r = ray;
   if (!I.identity) r = Ray{I.xf.inverse_point(ray.o), I.xf.inverse_vector(ray.d), ray.tmax};

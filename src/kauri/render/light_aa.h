@@ -1,0 +1,121 @@
+// Light antialiasing: more camera rays where lights seen directly have edges.
+//
+// A small bright lamp seen by the camera covers part of a few pixels; whether a camera
+// sample lands on it is a coin toss worth the lamp's whole radiance, and that coverage
+// noise can dominate an image's error (the benchmark hangar: 92% of its error over 4×4
+// blocks comes from its 144 lamps seen directly, bench/suite.py). A path costs ~5× a
+// camera ray there, so the render loop splits the camera sample's estimate in two:
+//     L(u) = Le_rgb(u) + S(u),
+// Le_rgb the colour of the lights the camera ray meets (PathOutput::rgb_exact, the
+// light's exact output-space colour) and S everything the path gathers after it. In a
+// pixel flagged for light antialiasing, each of its camera samples keeps S(u) and replaces
+// Le_rgb(u) by the mean of Le_rgb over E extra camera rays v_1 … v_E of the same pixel,
+//     L̂ = S(u) + (1/E) Σ_j Le_rgb(v_j),
+// unbiased since each v_j is distributed as u is (uniform in the pixel, or by the filter),
+// and the extra rays' points come from a sequence of their own (N·E Owen-scrambled
+// Sobol' points per pixel: the coverage is stratified over all of them). Each extra ray
+// is splatted at its own film position into the pixels' sums, but not into their filter
+// weights Σ w: the weights stay those of the N camera samples whose estimate the extra
+// rays complete (Σ w L̂ / Σ w, the same weighted estimator). Alpha and the data AOVs stay
+// the camera samples' own.
+//
+// Which pixels: a probe of kLightAAProbeRays camera rays per pixel, on a sequence
+// independent of the render's, before the pixel's first samples; a pixel is flagged where
+// the colours of the lamps (area and distant lights) its rays meet differ by at least
+// half the brightest lamp's (an edge). The flag is a function of the probe alone,
+// independent of the samples it acts on, so the image stays unbiased whatever the probe
+// misses (a missed sliver of lamp keeps the one-ray estimate).
+//
+// The split is not always a gain: it drops the negative covariance of Le_rgb(u) and S(u)
+// (where the ray meets the light, the path gathers nothing beyond it, and the other way
+// round), Var[Le + S] = Var[Le] + Var[S] + 2 Cov[Le, S]. Beside a lamp, S is small
+// against Le and the covariance with it; at a constant sky's silhouettes the objects are
+// lit by that sky and about as bright as it, and there the split was worse than none
+// (a test scene with a sky of 20: +6% variance). So a constant environment never flags a
+// pixel: its colour only rides along in a pixel flagged for a lamp. Pixels wholly on or
+// off a lamp, and scenes without lamps seen in Le_rgb (material emitters, environment
+// images), render as without it. Host render-loop code (renderer.cpp).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "kauri/integrator/path_tracer.h"
+#include "kauri/sampler/rng.h"
+#include "kauri/scene/scene_view.h"
+
+namespace kauri {
+
+/// Camera rays of a pixel's probe: one packet, on 8 stratified points.
+inline constexpr int kLightAAProbeRays = 8;
+
+/// Default extra camera rays per camera sample in a flagged pixel (RenderSettings::light_aa).
+inline constexpr int kLightAADefaultRays = 4;
+
+/// Seeds of the probe's and the extra rays' sequences, derived from the render's seed so
+/// that both stay independent of the render's own points and of each other.
+inline uint64_t light_aa_probe_seed(uint64_t seed) { return mix_bits(seed ^ 0x6c69676874707262ull); }
+inline uint64_t light_aa_extra_seed(uint64_t seed) { return mix_bits(seed ^ 0x6c69676874657874ull); }
+
+/// The colour a camera ray meeting light `l` sees as Le_rgb if it is a lamp that flags
+/// pixels: an area light without an emissive material (path_detail::
+/// add_area_seen_directly) or a distant light with a cone (add_seen_directly); black
+/// for the others (constant environments: see the header; the rest are estimated
+/// spectrally or never met).
+inline Vec3 lamp_colour(const Light& l) {
+  switch (l.type) {
+    case LightType::Triangle:
+    case LightType::Sphere:
+    case LightType::Disk: return l.material < 0 ? l.Le_rgb : Vec3{0, 0, 0};
+    case LightType::Distant:  // a cone's radiance; a delta direction is never met
+      return l.cos_max < 1 ? l.Le_rgb / distant_cone_projected_solid_angle(l) : Vec3{0, 0, 0};
+    default: return Vec3{0, 0, 0};
+  }
+}
+
+/// The brightest channel of any lamp_colour; 0: light antialiasing has nothing to do.
+inline Float brightest_lamp(const SceneView& s) {
+  Float m = 0;
+  for (int i = 0; i < s.n_lights; ++i) m = fmax_(m, max_component(lamp_colour(s.lights[i])));
+  return m;
+}
+
+/// The lamps' colour a probe ray sees: rgb_seen_directly without the constant
+/// environments.
+inline Vec3 probe_colour(const SceneView& s, const Ray& ray, bool found, const HitRecord& h) {
+  if (found) return rgb_seen_directly(s, ray, found, h);
+  Vec3 rgb{0, 0, 0};
+  for (int i = 0; i < s.n_infinite_lights; ++i) {
+    const Light& l = s.lights[s.infinite_lights[i]];
+    if (l.type == LightType::Distant) path_detail::add_seen_directly(l, ray.d, &rgb);
+  }
+  return rgb;
+}
+
+/// Spread of the probe's colours below which a pixel is not flagged, as a share of the
+/// brightest lamp's channel (brightest_lamp). The extra rays pay where a lamp's edge is
+/// bright against what the path gathers beside it (the covariance above); the probe sees
+/// only the lamps, so the scene's brightest one stands for that scale, and dim panels
+/// beside it keep the one-ray estimate.
+inline constexpr Float kLightAASpreadShare = 0.5f;
+
+/// Whether the probe's colours seen directly differ by at least `min_spread` in some
+/// channel (a pixel wholly inside one light or off every light never does).
+inline bool light_colours_differ(const Vec3* rgb, int n, Float min_spread) {
+  Vec3 lo = rgb[0], hi = rgb[0];
+  for (int k = 1; k < n; ++k) lo = vmin(lo, rgb[k]), hi = vmax(hi, rgb[k]);
+  const Float spread = max_component(hi - lo);
+  return spread > 0 && spread >= min_spread;
+}
+
+/// Pixels whose probe could flag them (1) or not (0), from the screen-space bounds of
+/// the lamps bright enough to reach `min_spread` (any other lamps' colours, 0 included,
+/// differ by less): a pixel's probe rays see only lights whose projection covers it. A
+/// pinhole or orthographic camera projects each such light's bounding box (its 8
+/// corners) and marks the pixels within `margin` of it (1 with splatting: rounding;
+/// 1 + the filter's radius with filter importance sampling, whose camera samples land
+/// around the pixel); a distant light, a thin lens (defocus), a lamp behind or at the
+/// camera's plane, or boxes adding up to more than 4 images' area mark every pixel. Only marked pixels pay for a probe. Host code.
+std::vector<uint8_t> light_aa_candidates(const SceneView& s, int width, int height, Float min_spread, int margin);
+
+}  // namespace kauri
