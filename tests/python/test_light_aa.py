@@ -133,3 +133,18 @@ def test_light_aa_is_checked(bad):
     scene = peers.to_kauri(hangar.describe())
     with pytest.raises((SceneError, ValueError, TypeError), match="light_aa"):
         kauri.render(scene, spp=1, resolution=(4, 4), light_aa=bad)
+
+
+def test_progressive_passes_and_the_ray_replay_take_the_extra_rays():
+    scene = peers.to_kauri(hangar.describe())
+    # Passes of 1, 1, 2, 4, 8, 16 samples under a time limit it never reaches: each pixel is
+    # probed once, on its first visit, keeps its flag, and its extra rays continue their
+    # sequence pass after pass: the image is the one-pass render's up to float rounding.
+    passes = kauri.render(scene, spp=32, resolution=(32, 32), seed=2, time_limit=1e6, light_aa=4)
+    one_pass = kauri.render(scene, spp=32, resolution=(32, 32), seed=2, light_aa=4)
+    off = kauri.render(scene, spp=32, resolution=(32, 32), seed=2, light_aa=0)
+    assert passes.stats["spp"] == 32
+    np.testing.assert_allclose(passes.rgba, one_pass.rgba, rtol=1e-4, atol=1e-5)
+    assert np.abs(one_pass.rgba - off.rgba).max() > 1e-3  # the extra rays did act
+    r = kauri.ray_replay(scene, spp=4, resolution=(32, 32), threads=1, repeats=1, light_aa=4)
+    assert r["hits_match"] and r["render_rays"] == r["closest_rays"] + r["shadow_rays"]
