@@ -135,6 +135,8 @@ def main(argv=None) -> int:
             parser.error("--spp must be > 0")
         if args.threads < 0:
             parser.error("--threads must be >= 0")
+        if not 0 <= args.light_aa <= 64:
+            parser.error("--light-aa must be in [0, 64] (extra camera rays per sample)")
         return _cmd_render(args)
     parser.print_help()
     return 0

@@ -87,7 +87,8 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
     ``light_aa``: light antialiasing, extra camera rays per sample (default 4, 0: off) in the
     pixels where a probe finds the edge of a light seen directly (a small lamp, a
     silhouette against a constant sky); they gather only that light's colour, which the
-    sample's path then leaves to them. Unbiased: it lowers the coverage noise of bright
+    sample's path then leaves to them. The same image in the limit (each extra ray is
+    distributed as the sample's own position): it lowers the coverage noise of bright
     lights seen by the camera at a camera ray's cost instead of a path's (render/light_aa.h)."""
     if extra:
         raise SceneError(f"render: unknown parameter(s) {', '.join(map(repr, sorted(extra)))}; "

@@ -1,7 +1,8 @@
 """Light antialiasing (render/light_aa.h): extra camera rays for the lights seen directly,
-in the pixels where a probe finds their edges. Unbiased (the same image in expectation as
-without it), less noisy where small bright lamps are seen, and without effect on the
-image where no light is seen in Le_rgb."""
+in the pixels where a probe finds their edges. The same image as without it within noise
+(unbiased per sample; the splatted film's ratio estimator converges to the same limit),
+less noisy where small bright lamps are seen, and without effect on the image where no
+light is seen in Le_rgb."""
 import os
 import sys
 
@@ -90,8 +91,9 @@ def test_sphere_and_disk_lights_agree(aperture, sky):
     v_on, v_off = on.var(0, ddof=1)[lamps].mean(), off.var(0, ddof=1)[lamps].mean()
     assert v_on < 0.7 * v_off, (v_on, v_off)
     # The sky never flags a pixel (its silhouettes are lit by the sky itself): elsewhere
-    # the image is the same render.
-    far = ~_near(lamps, 3)
+    # the image is the same render. A flagged pixel is at most a pixel from where a lamp
+    # shows (the mask's rounding) and its splats reach the default filter's radius of 2.
+    far = ~_near(lamps, 1 + 2)
     assert np.array_equal(on[:, far], off[:, far])
 
 
@@ -108,16 +110,19 @@ def test_no_light_seen_in_rgb_leaves_the_image_unchanged():
     # The environment-map scene: its sky is an image, estimated spectrally, so nothing is
     # probed; the hangar seen from below its lamps, looking down: probed, never flagged.
     env = peers.to_kauri(envmap.describe())
-    a = kauri.render(env, spp=8, resolution=(24, 16), seed=3, light_aa=0).rgba
+    a = kauri.render(env, spp=8, resolution=(24, 16), seed=3, light_aa=0)
     b = kauri.render(env, spp=8, resolution=(24, 16), seed=3, light_aa=4)
-    assert np.array_equal(a, b.rgba)
+    assert np.array_equal(a.rgba, b.rgba)
+    assert a.stats["rays"] == b.stats["rays"]  # not even a probe
     d = hangar.describe()
     d["camera"] = {"eye": (0, 3, 6), "target": (0, 0, 2), "up": (0, 1, 0), "fov_x": 40.0}
     floor = peers.to_kauri(d)
     a = kauri.render(floor, spp=8, resolution=(24, 16), seed=3, light_aa=0)
     b = kauri.render(floor, spp=8, resolution=(24, 16), seed=3, light_aa=4)
     assert np.array_equal(a.rgba, b.rgba)
-    assert b.stats["rays"] > a.stats["rays"] if isinstance(b.stats, dict) else b.stats.rays > a.stats.rays
+    # No lamp is in view, but the boxes of those above the camera cross its plane: every
+    # pixel is probed, and none flagged.
+    assert b.stats["rays"] > a.stats["rays"]
 
 
 def test_extra_rays_are_counted_and_deterministic_across_threads():
@@ -126,8 +131,7 @@ def test_extra_rays_are_counted_and_deterministic_across_threads():
     b = kauri.render(scene, spp=8, resolution=(32, 32), seed=4, threads=2, light_aa=4)
     assert np.array_equal(a.rgba, b.rgba)
     off = kauri.render(scene, spp=8, resolution=(32, 32), seed=4, threads=1, light_aa=0)
-    rays = (lambda r: r.stats["rays"] if isinstance(r.stats, dict) else r.stats.rays)
-    assert rays(a) > rays(off) + 32 * 32  # the probes at least, plus the extra rays
+    assert a.stats["rays"] > off.stats["rays"] + 32 * 32  # the probes at least, plus the extra rays
 
 
 @pytest.mark.parametrize("bad", [-1, 65, 2.5, "4"])
@@ -135,6 +139,22 @@ def test_light_aa_is_checked(bad):
     scene = peers.to_kauri(hangar.describe())
     with pytest.raises((SceneError, ValueError, TypeError), match="light_aa"):
         kauri.render(scene, spp=1, resolution=(4, 4), light_aa=bad)
+
+
+@pytest.mark.parametrize("bad", [-1, 65])
+def test_light_aa_is_checked_below_python(bad):
+    # The binding checks too (for callers of kauri._core), in render()'s argument order.
+    scene = peers.to_kauri(hangar.describe())
+    with pytest.raises(ValueError, match="light_aa"):
+        kauri._core.render(scene._core, 4, 4, 1, 0, 1, 0.0, "zsobol", 16, 6, 8, 12, 0.0, "gaussian", 2.0, 0.5,
+                           "splat", False, False, "tree", 4, bad)
+
+
+def test_cli_refuses_a_bad_light_aa(tmp_path):
+    from kauri import cli
+    with pytest.raises(SystemExit) as e:
+        cli.main(["render", "--light-aa", "-1", "-o", str(tmp_path / "x.exr")])
+    assert e.value.code == 2
 
 
 def test_progressive_passes_and_the_ray_replay_take_the_extra_rays():
@@ -147,6 +167,7 @@ def test_progressive_passes_and_the_ray_replay_take_the_extra_rays():
     off = kauri.render(scene, spp=32, resolution=(32, 32), seed=2, light_aa=0)
     assert passes.stats["spp"] == 32
     np.testing.assert_allclose(passes.rgba, one_pass.rgba, rtol=1e-4, atol=1e-5)
+    assert passes.stats["rays"] == one_pass.stats["rays"]  # each pixel probed once, not per pass
     assert np.abs(one_pass.rgba - off.rgba).max() > 1e-3  # the extra rays did act
     r = kauri.ray_replay(scene, spp=4, resolution=(32, 32), threads=1, repeats=1, light_aa=4)
     assert r["hits_match"] and r["render_rays"] == r["closest_rays"] + r["shadow_rays"]

@@ -54,6 +54,8 @@ struct Light {
   Point3 p0, p1, p2;            // triangle vertices; p0 = position/centre otherwise
   Normal3 n{0, 0, 1};           // triangle/disk normal, spot/distant direction (emission direction)
   Float radius = 0;             // sphere/disk radius
+  Float bound_radius = 0;       // sphere/disk: a radius about p0 bounding the shape as placed (an
+                                // instance's non-uniform scale; `radius` is then an average)
   Float area = 0;
   Float cos_inner = 1, cos_outer = 0;  // spot cone
   Float cos_max = 1;            // distant light angular radius (cos), 1 = delta

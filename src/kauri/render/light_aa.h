@@ -11,20 +11,25 @@
 // pixel flagged for light antialiasing, each of its camera samples keeps S(u) and replaces
 // Le_rgb(u) by the mean of Le_rgb over E extra camera rays v_1 … v_E of the same pixel,
 //     L̂ = S(u) + (1/E) Σ_j Le_rgb(v_j),
-// unbiased since each v_j is distributed as u is (uniform in the pixel, or by the filter),
-// and the extra rays' points come from a sequence of their own (N·E Owen-scrambled
-// Sobol' points per pixel: the coverage is stratified over all of them). Each extra ray
-// is splatted at its own film position into the pixels' sums, but not into their filter
-// weights Σ w: the weights stay those of the N camera samples whose estimate the extra
-// rays complete (Σ w L̂ / Σ w, the same weighted estimator). Alpha and the data AOVs stay
-// the camera samples' own.
+// with E[L̂] = E[L(u)] since each v_j is distributed as u is (uniform in the pixel, or by
+// the filter); the extra rays' points come from a sequence of their own (N·E
+// Owen-scrambled Sobol' points per pixel: the coverage is stratified over all of them).
+// Each extra ray is splatted at its own film position into the pixels' sums, but not into
+// their filter weights Σ w: the weights stay those of the N camera samples whose estimate
+// the extra rays complete. With filter importance sampling (weights 1) a pixel's estimate
+// is thus unbiased as before. Splatting is the ratio Σ w L / Σ w, consistent but biased by
+// O(1/N) through the covariance of Σ w and the sums; the lamps' part of the sums no longer
+// shares the camera samples' positions, so that O(1/N) term changes (it vanishes for the
+// lamps' part), and the image converges to the same limit. Alpha and the data AOVs stay
+// the camera samples' own. A pixel whose spp · E reaches 2^31 (the sampler's indices)
+// renders without it.
 //
 // Which pixels: a probe of kLightAAProbeRays camera rays per pixel, on a sequence
 // independent of the render's, before the pixel's first samples; a pixel is flagged where
 // the colours of the lamps (area and distant lights) its rays meet differ by at least
-// half the brightest lamp's (an edge). The flag is a function of the probe alone,
-// independent of the samples it acts on, so the image stays unbiased whatever the probe
-// misses (a missed sliver of lamp keeps the one-ray estimate).
+// half the brightest lamp's in view (an edge). The flag is a function of the probe alone,
+// independent of the samples it acts on, so whatever the probe misses changes no
+// expected value (a missed sliver of lamp keeps the one-ray estimate).
 //
 // The split is not always a gain: it drops the negative covariance of Le_rgb(u) and S(u)
 // (where the ray meets the light, the path gathers nothing beyond it, and the other way
@@ -73,13 +78,6 @@ inline Vec3 lamp_colour(const Light& l) {
   }
 }
 
-/// The brightest channel of any lamp_colour; 0: light antialiasing has nothing to do.
-inline Float brightest_lamp(const SceneView& s) {
-  Float m = 0;
-  for (int i = 0; i < s.n_lights; ++i) m = fmax_(m, max_component(lamp_colour(s.lights[i])));
-  return m;
-}
-
 /// The lamps' colour a probe ray sees: rgb_seen_directly without the constant
 /// environments.
 inline Vec3 probe_colour(const SceneView& s, const Ray& ray, bool found, const HitRecord& h) {
@@ -93,10 +91,10 @@ inline Vec3 probe_colour(const SceneView& s, const Ray& ray, bool found, const H
 }
 
 /// Spread of the probe's colours below which a pixel is not flagged, as a share of the
-/// brightest lamp's channel (brightest_lamp). The extra rays pay where a lamp's edge is
-/// bright against what the path gathers beside it (the covariance above); the probe sees
-/// only the lamps, so the scene's brightest one stands for that scale, and dim panels
-/// beside it keep the one-ray estimate.
+/// brightest lamp's channel among those the camera can see (light_aa_candidates). The
+/// extra rays pay where a lamp's edge is bright against what the path gathers beside it
+/// (the covariance above); the probe sees only the lamps, so the brightest one in view
+/// stands for that scale, and dim panels beside it keep the one-ray estimate.
 inline constexpr Float kLightAASpreadShare = 0.5f;
 
 /// Whether the probe's colours seen directly differ by at least `min_spread` in some
@@ -108,14 +106,23 @@ inline bool light_colours_differ(const Vec3* rgb, int n, Float min_spread) {
   return spread > 0 && spread >= min_spread;
 }
 
-/// Pixels whose probe could flag them (1) or not (0), from the screen-space bounds of
-/// the lamps bright enough to reach `min_spread` (any other lamps' colours, 0 included,
-/// differ by less): a pixel's probe rays see only lights whose projection covers it. A
-/// pinhole or orthographic camera projects each such light's bounding box (its 8
-/// corners) and marks the pixels within `margin` of it (1 with splatting: rounding;
-/// 1 + the filter's radius with filter importance sampling, whose camera samples land
-/// around the pixel); a distant light, a thin lens (defocus), a lamp behind or at the
-/// camera's plane, or boxes adding up to more than 4 images' area mark every pixel. Only marked pixels pay for a probe. Host code.
-std::vector<uint8_t> light_aa_candidates(const SceneView& s, int width, int height, Float min_spread, int margin);
+/// Light antialiasing's screen mask: which pixels a probe could flag, and the probe's
+/// threshold.
+struct LightAAMask {
+  std::vector<uint8_t> pixels;  // 1: probe; 0: no lamp can reach; empty: no lamp in view
+  Float min_spread = 0;         // spread_share × the brightest lamp in view
+};
+
+/// The mask from the screen-space bounds of the lamps (lamp_colour) the camera can see,
+/// those bright enough to reach the threshold (any other lamps' colours, 0 included,
+/// differ by less): a pixel's probe rays see only lamps whose projection covers it. A
+/// pinhole or orthographic camera projects each such lamp's bounding box (its 8 corners)
+/// and marks the pixels within `margin` of it (1 with splatting: rounding; 1 + the
+/// filter's radius with filter importance sampling, whose camera samples land around the
+/// pixel). A distant light's cone in view, a thin lens (defocus), a box across the
+/// camera's plane, or boxes adding up to more than 4 images' area mark every pixel;
+/// lamps off screen or wholly behind the camera are left out, of the threshold too.
+/// Only marked pixels pay for a probe. Host code.
+LightAAMask light_aa_candidates(const SceneView& s, int width, int height, Float spread_share, int margin);
 
 }  // namespace kauri

@@ -252,18 +252,20 @@ bool probe_light_edges(const TileContext& c, const Accel& accel, int x, int y, u
 /// Light antialiasing's per-pixel flags at the start of a render (TileContext::
 /// light_aa_flags): 0 (to probe) where light_aa_candidates marks the pixel, else 1 (off);
 /// empty where the render has no use for it. *min_spread gets the probe's threshold.
+/// Off, too, where a pixel's extra rays would outnumber the sampler's 32-bit indices.
 std::vector<uint8_t> light_aa_start(const SceneView& sv, const RenderSettings& cfg, Float* min_spread) {
-  *min_spread = kLightAASpreadShare * brightest_lamp(sv);
-  if (cfg.light_aa == 0 || !(*min_spread > 0)) return {};
+  *min_spread = 0;
+  if (cfg.light_aa == 0 || uint64_t(cfg.spp) * uint64_t(cfg.light_aa) >= (uint64_t(1) << 31)) return {};
   const int margin = cfg.reconstruction == FilmReconstruction::Splat ? 1 : 1 + int(std::ceil(cfg.filter.radius));
-  std::vector<uint8_t> flags = light_aa_candidates(sv, cfg.width, cfg.height, *min_spread, margin);
+  LightAAMask mask = light_aa_candidates(sv, cfg.width, cfg.height, kLightAASpreadShare, margin);
+  *min_spread = mask.min_spread;
   bool any = false;
-  for (uint8_t& f : flags) {
+  for (uint8_t& f : mask.pixels) {
     any = any || f;
     f = f ? 0 : 1;
   }
   if (!any) return {};
-  return flags;
+  return std::move(mask.pixels);
 }
 
 /// Whether pixel (x, y) takes light antialiasing's extra rays: probed on its first visit.
@@ -301,7 +303,11 @@ void light_aa_rays(const TileContext& c, const Accel& accel, int x, int y, uint3
     camera_group(c, x, y, g0, m, seed, s, r, film_pos, lambdas);
     intersect_camera_rays(accel, r, m, h, found);
     for (int k = 0; k < m; ++k) {
-      const Vec3 rgb = rgb_seen_directly(c.scene.view(), r[k], found[k], h[k]) * inv_e;
+      Vec3 rgb = rgb_seen_directly(c.scene.view(), r[k], found[k], h[k]) * inv_e;
+      if (!is_finite(rgb)) {  // as a path's non-finite sample: counted, and black
+        c.nan_samples.fetch_add(1);
+        rgb = Vec3{0, 0, 0};
+      }
       beauty[k][0] = rgb.x, beauty[k][1] = rgb.y, beauty[k][2] = rgb.z, beauty[k][3] = 0;
     }
     *rays += uint64_t(m);

@@ -54,6 +54,15 @@ bool same_spectrum(const Spectrum& a, const Spectrum& b) {
 /// whose radiance is not `Le`, get neither. The search for an equal spectrum stops at 256
 /// distinct ones (beyond them each light gets an id and an integral of its own): the
 /// compile stays linear in the number of lights, and a path meets few colours in a row.
+/// An upper bound on how far a transform's linear part stretches a unit vector: its
+/// Frobenius norm (≥ the largest singular value); 1 without a transform. Bounds a
+/// scaled sphere or disk for light antialiasing's screen mask (render/light_aa.h).
+Float frobenius_scale(const Transform* xf) {
+  if (!xf) return 1;
+  return std::sqrt(length_squared(xf->vector({1, 0, 0})) + length_squared(xf->vector({0, 1, 0})) +
+                   length_squared(xf->vector({0, 0, 1})));
+}
+
 void assign_emission_ids(std::vector<Light>& lights, const RGBColorSpace& cs) {
   constexpr size_t kMaxSearched = 256;
   std::vector<const Spectrum*> distinct;  // distinct[k] has emission id k
@@ -220,6 +229,7 @@ void CompiledScene::add_shape_lights(const Scene::Shape& s, const Transform* xf,
                                              length(xf->vector({0, 0, 1}))))
                        : Float(1);
       l.radius = s.sphere.radius * scale;
+      l.bound_radius = s.sphere.radius * frobenius_scale(xf);
       l.area = 4 * kPi * l.radius * l.radius;
       lights_.push_back(l);
       break;
@@ -231,6 +241,7 @@ void CompiledScene::add_shape_lights(const Scene::Shape& s, const Transform* xf,
       l.n = xf ? normalize(xf->normal(s.disk.normal)) : s.disk.normal;
       Float scale = xf ? length(xf->vector(Frame::from_z(s.disk.normal).x)) : Float(1);
       l.radius = s.disk.radius * scale;
+      l.bound_radius = s.disk.radius * frobenius_scale(xf);
       l.area = kPi * l.radius * l.radius;
       l.frame = Frame::from_z(l.n);
       lights_.push_back(l);
