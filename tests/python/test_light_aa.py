@@ -123,6 +123,7 @@ def test_no_light_seen_in_rgb_leaves_the_image_unchanged():
     # No lamp is in view, but the boxes of those above the camera cross its plane: every
     # pixel is probed, and none flagged.
     assert b.stats["rays"] > a.stats["rays"]
+    assert b.stats["light_aa_pixels"] == 0
 
 
 def test_extra_rays_are_counted_and_deterministic_across_threads():
@@ -131,7 +132,10 @@ def test_extra_rays_are_counted_and_deterministic_across_threads():
     b = kauri.render(scene, spp=8, resolution=(32, 32), seed=4, threads=2, light_aa=4)
     assert np.array_equal(a.rgba, b.rgba)
     off = kauri.render(scene, spp=8, resolution=(32, 32), seed=4, threads=1, light_aa=0)
-    assert a.stats["rays"] > off.stats["rays"] + 32 * 32  # the probes at least, plus the extra rays
+    # The probes of the pixels near lamps, plus 4 extra rays per sample in the flagged ones.
+    flagged = a.stats["light_aa_pixels"]
+    assert 0 < flagged < 32 * 32 and off.stats["light_aa_pixels"] == 0
+    assert a.stats["rays"] - off.stats["rays"] >= flagged * 8 * 4 + flagged * 8
 
 
 @pytest.mark.parametrize("bad", [-1, 65, 2.5, "4"])

@@ -362,6 +362,7 @@ NB_MODULE(_core, m) {
         d["peak_rss_bytes"] = s.peak_rss_bytes;
         d["compile_seconds"] = s.compile_seconds;
         d["scene_reused"] = s.scene_reused;
+        d["light_aa_pixels"] = s.light_aa_pixels;
         d["summary"] = s.summary();
         return d;
       })

@@ -460,6 +460,7 @@ std::string RenderStats::summary() const {
      << materials << " materials sharing " << layer_layouts << " layer layouts, "
      << (scene_reused ? std::string("compiled scene reused")
                       : "scene compiled in " + std::to_string(compile_seconds) + " s");
+  if (light_aa_pixels) os << ", light antialiasing in " << light_aa_pixels << " pixels";
   if (nan_samples) {
     os << "\nwarning: " << nan_samples << " non-finite samples discarded, first at pixel";
     for (size_t i = 0; i < nan_pixels.size() && i < 4; ++i)
@@ -529,6 +530,7 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   st.materials = scene.material_count();
   st.layer_layouts = scene.layout_count();
   st.peak_rss_bytes = peak_rss_bytes();
+  st.light_aa_pixels = uint64_t(std::count(light_aa_flags.begin(), light_aa_flags.end(), uint8_t(2)));
   return result;
 }
 

@@ -49,6 +49,7 @@ struct RenderStats {
   size_t peak_rss_bytes = 0;
   double compile_seconds = 0;  // scene compile (BVH, lights) before the render; 0 when reused
   bool scene_reused = false;   // the compiled scene of an earlier render was reused (Scene::compiled)
+  uint64_t light_aa_pixels = 0;  // pixels light antialiasing flagged (extra camera rays)
   double samples_per_second() const { return seconds > 0 ? double(samples) / seconds : 0; }
   double rays_per_second() const { return seconds > 0 ? double(rays) / seconds : 0; }
   std::string summary() const;
