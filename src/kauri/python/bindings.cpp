@@ -387,7 +387,8 @@ NB_MODULE(_core, m) {
     cfg.aovs = aovs;
     if (rr_depth < 0) throw std::invalid_argument("render: parameter 'rr_depth': must be >= 0");
     cfg.integrator.rr_min_depth = rr_depth;
-    if (light_aa < 0 || light_aa > 64) throw std::invalid_argument("render: parameter 'light_aa': must be in [0, 64]");
+    if (light_aa < 0 || light_aa > kLightAAMaxRays)
+      throw std::invalid_argument("render: parameter 'light_aa': must be in [0, 64]");
     cfg.light_aa = light_aa;
     if (light_sampler == "tree") cfg.integrator.light_tree = true;
     else if (light_sampler == "power") cfg.integrator.light_tree = false;
@@ -417,7 +418,7 @@ NB_MODULE(_core, m) {
                                          max_glossy, max_transmission, 0, filter, filter_radius, filter_sigma,
                                          reconstruction, false);
     cfg.aovs = aovs;
-    if (light_aa < 0 || light_aa > 64)
+    if (light_aa < 0 || light_aa > kLightAAMaxRays)
       throw std::invalid_argument("ray_replay: parameter 'light_aa': must be in [0, 64]");
     cfg.light_aa = light_aa;
     RayLog log;

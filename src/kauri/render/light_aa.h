@@ -45,7 +45,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "kauri/integrator/path_tracer.h"
 #include "kauri/sampler/rng.h"
 #include "kauri/scene/scene_view.h"
 
@@ -54,8 +53,10 @@ namespace kauri {
 /// Camera rays of a pixel's probe: one packet, on 8 stratified points.
 inline constexpr int kLightAAProbeRays = 8;
 
-/// Default extra camera rays per camera sample in a flagged pixel (RenderSettings::light_aa).
+/// Default and largest extra camera rays per camera sample in a flagged pixel
+/// (RenderSettings::light_aa).
 inline constexpr int kLightAADefaultRays = 4;
+inline constexpr int kLightAAMaxRays = 64;
 
 /// Seeds of the probe's and the extra rays' sequences, derived from the render's seed so
 /// that both stay independent of the render's own points and of each other.
@@ -76,18 +77,6 @@ inline Vec3 lamp_colour(const Light& l) {
       return l.cos_max < 1 ? l.Le_rgb / distant_cone_projected_solid_angle(l) : Vec3{0, 0, 0};
     default: return Vec3{0, 0, 0};
   }
-}
-
-/// The lamps' colour a probe ray sees: rgb_seen_directly without the constant
-/// environments.
-inline Vec3 probe_colour(const SceneView& s, const Ray& ray, bool found, const HitRecord& h) {
-  if (found) return rgb_seen_directly(s, ray, found, h);
-  Vec3 rgb{0, 0, 0};
-  for (int i = 0; i < s.n_infinite_lights; ++i) {
-    const Light& l = s.lights[s.infinite_lights[i]];
-    if (l.type == LightType::Distant) path_detail::add_seen_directly(l, ray.d, &rgb);
-  }
-  return rgb;
 }
 
 /// Spread of the probe's colours below which a pixel is not flagged, as a share of the

@@ -112,20 +112,23 @@ void check_settings(const RenderSettings& cfg) {
   if (cfg.width <= 0 || cfg.height <= 0) throw std::invalid_argument("render: the image size must be positive");
   if (!(cfg.filter.radius > 0 && cfg.filter.radius <= kMaxFilterRadius))
     throw std::invalid_argument("render: filter radius must be in (0, 8] pixels");
-  if (cfg.light_aa < 0 || cfg.light_aa > 64) throw std::invalid_argument("render: light_aa must be in [0, 64]");
+  if (cfg.light_aa < 0 || cfg.light_aa > kLightAAMaxRays)
+    throw std::invalid_argument("render: light_aa must be in [0, " + std::to_string(kLightAAMaxRays) + "]");
 }
 
-/// Beauty sample into the film: splatted, or into its own pixel with weight 1.
+/// Beauty sample into the film: splatted, or into its own pixel with weight 1. kAddWeight
+/// false: into the sums alone (splat_sample's; light antialiasing's extra rays).
+template <bool kAddWeight = true>
 void add_beauty(const TileContext& c, PixelAccum& px, Vec2 film_pos, Vec3 rgb, Float alpha) {
   if (c.cfg.reconstruction == FilmReconstruction::Splat) {
-    splat_sample(c.film, c.cfg.filter, c.splat_q, film_pos, rgb, alpha);
+    splat_sample<kAddWeight>(c.film, c.cfg.filter, c.splat_q, film_pos, rgb, alpha);
     return;
   }
   px.rgb[0] += double(rgb.x);
   px.rgb[1] += double(rgb.y);
   px.rgb[2] += double(rgb.z);
   px.alpha += double(alpha);
-  px.weight += 1;
+  if (kAddWeight) px.weight += 1;
 }
 
 /// Closest hits of a pixel's camera rays: one Embree packet (coherent rays traverse the
@@ -227,6 +230,18 @@ void camera_group(const TileContext& c, int x, int y, uint32_t first, int n, uin
   }
 }
 
+/// The lamps' colour a probe ray sees (light_aa.h): rgb_seen_directly without the
+/// constant environments, which never flag a pixel.
+Vec3 probe_colour(const SceneView& s, const Ray& ray, bool found, const HitRecord& h) {
+  if (found) return rgb_seen_directly(s, ray, found, h);
+  Vec3 rgb{0, 0, 0};
+  for (int i = 0; i < s.n_infinite_lights; ++i) {
+    const Light& l = s.lights[s.infinite_lights[i]];
+    if (l.type == LightType::Distant) path_detail::add_seen_directly(l, ray.d, &rgb);
+  }
+  return rgb;
+}
+
 /// Light antialiasing's probe of pixel (x, y) (light_aa.h): whether the colours of the
 /// lights its probe rays meet directly differ. *rays counts the probe's rays.
 template <class Accel>
@@ -312,15 +327,8 @@ void light_aa_rays(const TileContext& c, const Accel& accel, int x, int y, uint3
     }
     *rays += uint64_t(m);
     if (splat && splat_group<false>(c.film, c.cfg.filter, x, y, film_pos, beauty, m)) continue;
-    for (int k = 0; k < m; ++k) {
-      const Vec3 rgb{beauty[k][0], beauty[k][1], beauty[k][2]};
-      if (splat) {
-        splat_sample<false>(c.film, c.cfg.filter, c.splat_q, film_pos[k], rgb, 0);
-      } else {  // filter importance: the pixel's own sums, weight 1 each for the camera samples alone
-        PixelAccum& px = c.film.at(x, y);
-        px.rgb[0] += double(rgb.x), px.rgb[1] += double(rgb.y), px.rgb[2] += double(rgb.z);
-      }
-    }
+    for (int k = 0; k < m; ++k)
+      add_beauty<false>(c, c.film.at(x, y), film_pos[k], Vec3{beauty[k][0], beauty[k][1], beauty[k][2]}, 0);
   }
 }
 
