@@ -15,11 +15,12 @@ test: build
 	$(PYTHON) -m pytest -q tests/python
 
 # bench: the full peer suite (kauri vs Mitsuba 3 and Cycles; report in bench/results/) plus the
-# demo-scene, layered-material and light-tree micro-benchmarks. bench-quick: the suite at low res / spp.
+# demo-scene, layered-material, colour-noise and light-tree micro-benchmarks. bench-quick: the suite at low res / spp.
 bench: build
 	$(PYTHON) bench/suite.py
 	$(PYTHON) bench/bench_demo.py
 	$(PYTHON) bench/bench_layers.py
+	$(PYTHON) bench/colour_noise.py
 	"$$($(PYTHON) scripts/build_dir.py)/kauri_bench_light_tree"
 
 bench-quick: build

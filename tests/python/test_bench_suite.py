@@ -227,3 +227,38 @@ def test_fmt_ratio_prints_the_interval_when_there_is_one():
 def test_memory_deltas_below_zero_are_marked_as_noise():
     assert suite.fmt_mem_delta(5 * 1024) == "5"
     assert suite.fmt_mem_delta(-30 * 1024) == "-30*"
+
+
+def _colour_noise_module():
+    path = os.path.join(os.path.dirname(__file__), "..", "..", "bench", "colour_noise.py")
+    spec = importlib.util.spec_from_file_location("bench_colour_noise", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_colour_noise_boxes_recolour_only_the_walls():
+    cn = _colour_noise_module()
+    bench = {s["name"]: s for s in cn.box("bench")["shapes"]}
+    grey = {s["name"]: s for s in cn.box("grey")["shapes"]}
+    sat = {s["name"]: s for s in cn.box("saturated")["shapes"]}
+    assert bench["left"]["diffuse"] != bench["right"]["diffuse"]  # the suite's box, untouched
+    for name, shape in grey.items():
+        if "diffuse" in shape:
+            assert shape["diffuse"] == cn.GREY
+    assert sat["left"]["diffuse"] == (0.9, 0.1, 0.1) and sat["right"]["diffuse"] == (0.1, 0.9, 0.1)
+    assert sat["floor"]["diffuse"] == cn.GREY
+    # The lamp and the geometry stay the suite's in every version.
+    for box in (grey, sat):
+        assert box["light"] == bench["light"] and box["floor"]["quad"] == bench["floor"]["quad"]
+
+
+def test_colour_noise_variance_is_the_spread_about_the_renders_own_mean():
+    cn = _colour_noise_module()
+    rng = np.random.default_rng(7)
+    mean = rng.uniform(0.5, 1.5, (8, 8, 3))
+    sigma = 0.1
+    runs = [mean + sigma * rng.standard_normal(mean.shape) for _ in range(400)]
+    expected = np.mean(sigma ** 2 / (mean ** 2 + suite.REL_EPS))
+    assert cn.relative_variance(runs) == pytest.approx(expected, rel=0.03)
+    assert cn.relative_variance([np.ones((2, 2, 3))] * 3) == 0.0
