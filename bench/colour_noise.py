@@ -67,6 +67,10 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if args.renders < 2:
         ap.error("--renders: at least 2 (a variance needs two renders)")
+    if args.spp < 1 or round(args.spp ** 0.5) ** 2 != args.spp:
+        ap.error(f"--spp: expected a square number (Mitsuba's multijitter sampler rounds others up), got {args.spp}")
+    if args.res < 1:
+        ap.error(f"--res: expected a positive image size, got {args.res}")
     suite.setup_llvm_env()
     import peers
 
