@@ -102,6 +102,38 @@ TEST(Sampling, UniformDisk) {
   }
 }
 
+// cos_sin_turns against double precision over the whole turn: every quarter's swap and
+// signs, the quarter boundaries themselves (t = k/8 and k/4, where the nearest quarter
+// changes) and the ends 0 and 1; and the lat-long and sphere maps built on it stay unit.
+TEST(Sampling, CosSinTurnsMatchesTheExactFunctionsOverTheTurn) {
+  auto check = [](Float t) {
+    const Vec2 cs = cos_sin_turns(t);
+    const double phi = 2 * kPiD * double(t);
+    ASSERT_NEAR(double(cs.x), std::cos(phi), 2.5e-7) << t;
+    ASSERT_NEAR(double(cs.y), std::sin(phi), 2.5e-7) << t;
+  };
+  for (int i = 0; i <= 100000; ++i) check(Float(i) / 100000);
+  for (int k = 0; k <= 8; ++k) {
+    const Float b = Float(k) / 8;
+    check(b);
+    check(std::nextafter(b, Float(0)));
+    check(std::nextafter(b, Float(1)));
+  }
+  EXPECT_EQ(cos_sin_turns(0).x, 1);
+  EXPECT_EQ(cos_sin_turns(0.25f).y, 1);
+  EXPECT_EQ(cos_sin_turns(0.5f).x, -1);
+  EXPECT_EQ(cos_sin_turns(0.75f).y, -1);
+  // Near θ = π (v → 1) sin θ keeps its relative precision: the reduction is in v, not π v.
+  const Float v = 1 - 0x1p-20f;
+  EXPECT_NEAR(double(cos_sin_turns(0.5f * v).y) / std::sin(kPiD * double(v)), 1.0, 1e-6);
+  PCG32 rng(17, 4);
+  for (int i = 0; i < 10000; ++i) {
+    const Vec2 u = next_2d(rng);
+    ASSERT_NEAR(double(length(sample_uniform_sphere(u))), 1.0, 1e-6);
+    ASSERT_NEAR(double(length(sample_uniform_cone(u, 0.3f))), 1.0, 1e-6);
+  }
+}
+
 // atan2_poly and acos_poly (the lat-long and sphere uv mappings) against double-precision
 // atan2 and acos: every octant and quadrant, both signs of zero, the fold at tan(π/8),
 // angles near ±π (where the result changes sign) and arguments of very different scales.

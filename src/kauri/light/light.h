@@ -85,9 +85,8 @@ KAURI_HOST_DEVICE inline Vec2 direction_to_latlong(Vec3 d) {
   return {u, acos_poly(d.y) * kInvPi};
 }
 KAURI_HOST_DEVICE inline Vec3 latlong_to_direction(Vec2 uv) {
-  Float phi = uv.x * 2 * kPi, theta = uv.y * kPi;
-  Float s = std::sin(theta);
-  return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
+  const Vec2 phi = cos_sin_turns(uv.x), theta = cos_sin_turns(Float(0.5) * uv.y);  // φ = 2π u, θ = π v
+  return {theta.y * phi.y, theta.x, -theta.y * phi.x};
 }
 
 namespace light_detail {

@@ -82,7 +82,7 @@ KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u
   } else {
     Float pdf_uv;
     Vec2 uv = env_distribution(l, density).sample(u, &pdf_uv);
-    Float sin_theta = std::sin(uv.y * kPi);
+    Float sin_theta = cos_sin_turns(Float(0.5) * uv.y).y;  // θ = π v
     if (pdf_uv == 0 || sin_theta == 0) return s;
     s.wi = l.frame.to_world(latlong_to_direction(uv));
     s.pdf = pdf_uv / (2 * kPi * kPi * sin_theta);
@@ -172,7 +172,7 @@ KAURI_HOST_DEVICE inline Float light_pdf(const Light& l, Point3 p, Vec3 wi, Poin
     case LightType::EnvConstant: return uniform_sphere_pdf();
     case LightType::EnvMap: {
       Vec2 uv = direction_to_latlong(l.frame.to_local(wi));
-      Float sin_theta = std::sin(uv.y * kPi);
+      Float sin_theta = cos_sin_turns(Float(0.5) * uv.y).y;  // θ = π v
       if (sin_theta == 0) return 0;
       return env_distribution(l, density).pdf(uv) / (2 * kPi * kPi * sin_theta);
     }
