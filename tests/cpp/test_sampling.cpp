@@ -104,7 +104,8 @@ TEST(Sampling, UniformDisk) {
 
 // cos_sin_turns against double precision over the whole turn: every quarter's swap and
 // signs, the quarter boundaries themselves (t = k/8 and k/4, where the nearest quarter
-// changes) and the ends 0 and 1; and the lat-long and sphere maps built on it stay unit.
+// changes) and the ends 0 and 1; and the sphere and cone samplers built on it stay unit
+// (the lat-long map's round trip is in test_lights.cpp).
 TEST(Sampling, CosSinTurnsMatchesTheExactFunctionsOverTheTurn) {
   auto check = [](Float t) {
     const Vec2 cs = cos_sin_turns(t);

@@ -84,8 +84,11 @@ KAURI_HOST_DEVICE inline Vec2 direction_to_latlong(Vec3 d) {
   if (u < 0) u += 1;
   return {u, acos_poly(d.y) * kInvPi};
 }
-KAURI_HOST_DEVICE inline Vec3 latlong_to_direction(Vec2 uv) {
+/// `sin_theta`: where not null, receives sin θ (the lat-long area element's factor), which
+/// the direction already needs.
+KAURI_HOST_DEVICE inline Vec3 latlong_to_direction(Vec2 uv, Float* sin_theta = nullptr) {
   const Vec2 phi = cos_sin_turns(uv.x), theta = cos_sin_turns(Float(0.5) * uv.y);  // φ = 2π u, θ = π v
+  if (sin_theta) *sin_theta = theta.y;
   return {theta.y * phi.y, theta.x, -theta.y * phi.x};
 }
 

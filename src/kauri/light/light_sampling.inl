@@ -82,9 +82,10 @@ KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u
   } else {
     Float pdf_uv;
     Vec2 uv = env_distribution(l, density).sample(u, &pdf_uv);
-    Float sin_theta = cos_sin_turns(Float(0.5) * uv.y).y;  // θ = π v
+    Float sin_theta;
+    const Vec3 w_local = latlong_to_direction(uv, &sin_theta);
     if (pdf_uv == 0 || sin_theta == 0) return s;
-    s.wi = l.frame.to_world(latlong_to_direction(uv));
+    s.wi = l.frame.to_world(w_local);
     s.pdf = pdf_uv / (2 * kPi * kPi * sin_theta);
   }
   s.p_light = p + s.wi * (2 * l.scene_radius + distance(p, l.scene_center));
