@@ -23,15 +23,25 @@ KAURI_HOST_DEVICE inline SampledSpectrum material_emission(const SceneView& s, i
   return Le;
 }
 
-/// Emission reaching the camera along a path segment that ended on an emitter or escaped.
+/// Whether emission found by the path's last BSDF sample is MIS-weighted against next-event
+/// estimation: not the camera ray's, not after a specular bounce (NEE cannot sample those).
+KAURI_HOST_DEVICE inline bool emission_needs_mis(const PathState& st) { return st.depth > 0 && !st.specular_bounce; }
+
+/// MIS weight of emission the last BSDF sample found on `light`, whose NEE solid-angle
+/// density for that direction (from st.prev_p) is `pdf_light`.
+KAURI_HOST_DEVICE inline Float emitter_mis_weight_given_pdf(const SceneView& s, const IntegratorSettings& cfg,
+                                                            const PathState& st, int light, Float pdf_light) {
+  if (!emission_needs_mis(st)) return 1;
+  return power_heuristic(st.prev_pdf, s.light_pmf(light, st.prev_p, st.prev_n, cfg.light_tree) * pdf_light);
+}
+
+/// Emission reaching the camera along a path segment that ended on an emitter.
 KAURI_HOST_DEVICE inline Float emitter_mis_weight(const SceneView& s, const IntegratorSettings& cfg,
                                                   const PathState& st, int light, Vec3 wi, Point3 p_light,
                                                   Normal3 n_light) {
-  if (st.depth == 0 || st.specular_bounce) return 1;
-  Float p_light_solid =
-      s.light_pmf(light, st.prev_p, st.prev_n, cfg.light_tree) *
-      light_pdf(s.lights[light], st.prev_p, wi, p_light, n_light, kNextEventDensity);
-  return power_heuristic(st.prev_pdf, p_light_solid);
+  if (!emission_needs_mis(st)) return 1;
+  return emitter_mis_weight_given_pdf(
+      s, cfg, st, light, light_pdf(s.lights[light], st.prev_p, wi, p_light, n_light, kNextEventDensity));
 }
 
 /// The light a next-event estimate at p (shading normal n) samples, and the 2D sample for
@@ -175,9 +185,11 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
       for (int i = 0; i < s.n_infinite_lights; ++i) {
         int li = s.infinite_lights[i];
         if (st.depth == 0 && path_detail::add_seen_directly(s.lights[li], ray.d, &out->rgb_exact)) continue;
-        SampledSpectrum Le = infinite_light_Le(s.lights[li], ray.d, lambda);
+        Float pdf_light = 0;
+        SampledSpectrum Le = infinite_light_Le_pdf(s.lights[li], ray.d, lambda, kNextEventDensity,
+                                                   path_detail::emission_needs_mis(st) ? &pdf_light : nullptr);
         if (Le.is_black()) continue;
-        Float w = path_detail::emitter_mis_weight(s, cfg, st, li, ray.d, Point3{}, Normal3{});
+        Float w = path_detail::emitter_mis_weight_given_pdf(s, cfg, st, li, pdf_light);
         out->add(st.beta * Le * w, st, ContributionKind::Emission);
       }
       break;

@@ -263,6 +263,25 @@ KAURI_HOST_DEVICE inline const Distribution2D& env_distribution(const Light& l, 
   return density == LightDensity::Compensated ? l.compensated : l.distribution;
 }
 
+/// Where a world direction meets an environment map: its lat-long coordinates and sin θ
+/// (the lat-long area element's factor), found once for the radiance and the density there.
+struct EnvDirection {
+  Vec2 uv;
+  Float sin_theta;
+};
+KAURI_HOST_DEVICE inline EnvDirection env_direction(const Light& l, Vec3 w) {
+  const Vec3 d = l.frame.to_local(w);
+  // sin θ = |(x, z)| of the unit direction (+Y up): a square root, where one of θ = π v
+  // would first need v's arccosine undone.
+  return {direction_to_latlong(d), std::sqrt(d.x * d.x + d.z * d.z)};
+}
+/// Solid-angle density with which sample_light() picks the direction `e` on environment map
+/// `l`: the lat-long density over its Jacobian 2π² sin θ (0 at the poles).
+KAURI_HOST_DEVICE inline Float env_pdf(const Light& l, const EnvDirection& e, LightDensity density) {
+  if (e.sin_theta == 0) return 0;
+  return env_distribution(l, density).pdf(e.uv) / (2 * kPi * kPi * e.sin_theta);
+}
+
 }  // namespace kauri
 
 #include "kauri/light/light_sampling.inl"

@@ -87,9 +87,12 @@ KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u
     if (pdf_uv == 0 || sin_theta == 0) return s;
     s.wi = l.frame.to_world(w_local);
     s.pdf = pdf_uv / (2 * kPi * kPi * sin_theta);
+    // The radiance at the sampled (u, v) itself: taking it from s.wi would turn the
+    // direction back into lat-long coordinates (an arctangent and an arccosine).
+    s.L = env_texel_radiance(l, uv, lambda);
   }
   s.p_light = p + s.wi * (2 * l.scene_radius + distance(p, l.scene_center));
-  s.L = infinite_light_Le(l, s.wi, lambda);
+  if (l.type == LightType::EnvConstant) s.L = infinite_light_Le(l, s.wi, lambda);
   return s;
 }
 
@@ -171,14 +174,24 @@ KAURI_HOST_DEVICE inline Float light_pdf(const Light& l, Point3 p, Vec3 wi, Poin
       if (distant_cone_contains(l, wi)) return uniform_cone_pdf(l.cos_max);
       return 0;
     case LightType::EnvConstant: return uniform_sphere_pdf();
-    case LightType::EnvMap: {
-      Vec2 uv = direction_to_latlong(l.frame.to_local(wi));
-      Float sin_theta = cos_sin_turns(Float(0.5) * uv.y).y;  // θ = π v
-      if (sin_theta == 0) return 0;
-      return env_distribution(l, density).pdf(uv) / (2 * kPi * kPi * sin_theta);
-    }
+    case LightType::EnvMap: return env_pdf(l, env_direction(l, wi), density);
     default: return 0;
   }
+}
+
+/// infinite_light_Le(l, w, lambda) and, where `pdf` is not null, light_pdf() of direction
+/// `w` for `density`: an escaped ray's emission and its MIS weight's density. An
+/// environment map finds w's lat-long coordinates once for both (apart, the path's
+/// escaped rays converted each direction twice).
+KAURI_HOST_DEVICE inline SampledSpectrum infinite_light_Le_pdf(const Light& l, Vec3 w, const SampledWavelengths& lambda,
+                                                               LightDensity density, Float* pdf) {
+  if (l.type != LightType::EnvMap) {
+    if (pdf) *pdf = light_pdf(l, Point3{}, w, Point3{}, Normal3{}, density);
+    return infinite_light_Le(l, w, lambda);
+  }
+  const EnvDirection e = env_direction(l, w);
+  if (pdf) *pdf = has_light_density(l, density) ? env_pdf(l, e, density) : 0;
+  return env_texel_radiance(l, e.uv, lambda);
 }
 
 }  // namespace kauri
