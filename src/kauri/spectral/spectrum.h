@@ -140,14 +140,17 @@ struct Spectrum {
     return 0;
   }
 
-  /// `*this` at the path's wavelengths. An RGB reflectance (every RGB albedo) inline; the
-  /// other kinds in sample_other.
+  /// `*this` at the path's wavelengths. The reflectances inline: an RGB albedo's sigmoid,
+  /// and a constant (every grey albedo: rgb_albedo() makes a flat sigmoid one),
+  /// which out of line cost its call ~50 instructions for a copy (the Cornell box's white
+  /// walls: 2% of its instructions); the other kinds in sample_other.
   KAURI_HOST_DEVICE KAURI_FORCE_INLINE SampledSpectrum sample(const SampledWavelengths& w) const {
     if (type == SpectrumType::RGBAlbedo) return sample_sigmoid(rgb.poly, w);
+    if (type == SpectrumType::Constant) return SampledSpectrum(constant);
     return sample_other(w);
   }
  private:
-  /// sample() of every kind but RGBAlbedo (which sample() takes inline).
+  /// sample() of every kind but RGBAlbedo and Constant (which sample() takes inline).
   KAURI_HOST_DEVICE SampledSpectrum sample_other(const SampledWavelengths& w) const {
     SampledSpectrum s;
     // One dispatch for all wavelengths (the common kinds are evaluated inline).
