@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -21,6 +22,32 @@ DenselySampled cie_grid(const float* values) { return {values, tables::kCieLambd
 Vec3 xyz_to_xy(Vec3 xyz) {
   Float s = xyz.x + xyz.y + xyz.z;
   return {xyz.x / s, xyz.y / s, 0};
+}
+
+// The black and finite tests (one vector compare each with AVX2) against the per-wavelength
+// definition, with the special value at every wavelength in turn: signed zeros are black,
+// a NaN or an infinity is neither black nor finite, a subnormal is not black.
+TEST(Spectral, BlackAndFiniteLookAtEveryWavelength) {
+  const Float specials[] = {0.0f, -0.0f, 1.0f, -2.5f, 1e-40f, -1e-40f, std::numeric_limits<Float>::max(),
+                            std::numeric_limits<Float>::infinity(), -std::numeric_limits<Float>::infinity(),
+                            std::numeric_limits<Float>::quiet_NaN()};
+  for (Float base : {0.0f, -0.0f, 0.5f}) {
+    for (int i = 0; i < kSpectrumSamples; ++i) {
+      for (Float x : specials) {
+        SampledSpectrum s(base);
+        s[i] = x;
+        bool black = true, finite = true;
+        for (int k = 0; k < kSpectrumSamples; ++k) {
+          black = black && s[k] == 0;
+          finite = finite && std::isfinite(s[k]);
+        }
+        EXPECT_EQ(s.is_black(), black) << "base " << base << ", wavelength " << i << " = " << x;
+        EXPECT_EQ(s.is_finite(), finite) << "base " << base << ", wavelength " << i << " = " << x;
+      }
+    }
+  }
+  EXPECT_TRUE(SampledSpectrum(0).is_black());
+  EXPECT_FALSE(SampledSpectrum(1e-40f).is_black());
 }
 
 // ---------------------------------------------------------------- (a) white points
