@@ -286,8 +286,12 @@ TEST(LayeredBSDF, SingleLobeFastPathMatchesTheGeneralPath) {
     EXPECT_EQ(a.lobes[0].type, b.lobes[0].type);
     for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_EQ(a.weight[0][i], b.weight[0][i]);
     EXPECT_EQ(a.select_prob[0], 1);
-    if (kind == 0) EXPECT_NEAR(a.weight[0][0], 0.6f, 1e-6f);
-    if (kind > 0) EXPECT_EQ(a.lobes[0].conductor.ms_cached, b.lobes[0].conductor.ms_cached);
+    if (kind == 0) {
+      EXPECT_NEAR(a.weight[0][0], 0.6f, 1e-6f);
+    }
+    if (kind > 0) {
+      EXPECT_EQ(a.lobes[0].conductor.ms_cached, b.lobes[0].conductor.ms_cached);
+    }
     for (Vec3 wi : {Vec3{0, 0, 1}, normalize(Vec3{-0.3f, 0.2f, 0.8f}), normalize(Vec3{0.7f, 0.1f, 0.3f})}) {
       SampledSpectrum fa = a.eval(wo, wi, TransportMode::Radiance), fb = b.eval(wo, wi, TransportMode::Radiance);
       for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_FLOAT_EQ(fa[i], fb[i]) << "kind " << kind;

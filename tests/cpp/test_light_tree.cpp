@@ -74,7 +74,7 @@ TEST(LightTree, PmfIsADistributionThatKeepsEveryLightWithPower) {
     double sum = 0;
     for (int i = 0; i < int(r.lights.size()); ++i) {
       const Float pmf = v.pmf(i, p, n);
-      sum += pmf;
+      sum += double(pmf);
       if (r.lights[size_t(i)].is_infinite() || !(r.power[size_t(i)] > 0))
         EXPECT_EQ(pmf, 0) << "light " << i << " is not in the tree";
       else  // at least the power share of the defensive mixture at every level
@@ -137,7 +137,9 @@ TEST(LightTree, RemappedUIsUniformWithinEachLight) {
       ++checked;
       const double m = double(rs.size());
       for (size_t j = 0; j < rs.size(); ++j) {  // in u order: increasing, evenly spaced
-        if (j > 0) ASSERT_GT(rs[j], rs[j - 1]);
+        if (j > 0) {
+          ASSERT_GT(rs[j], rs[j - 1]);
+        }
         ASSERT_NEAR(rs[j], (double(j) + 0.5) / m, 1.5 / m + 1e-4);
       }
     }
@@ -194,7 +196,7 @@ TEST(LightTree, TheReceiversCosineWeighsLightsNearItsHorizonDown) {
   EXPECT_LT(ratio_wall, ratio_bare / 2);
   EXPECT_GT(ratio_wall, 2.7f);  // still a bound: no lower than the contributions' ratio
   double sum = 0;
-  for (int i = 0; i < int(lights.size()); ++i) sum += v.pmf(i, wall, Normal3{1, 0, 0});
+  for (int i = 0; i < int(lights.size()); ++i) sum += double(v.pmf(i, wall, Normal3{1, 0, 0}));
   EXPECT_NEAR(sum, 1.0, 1e-4);
 }
 
@@ -218,7 +220,7 @@ TEST(LightTree, DeepTreesKeepTheirTrails) {
   const Normal3 ns = normalize(Vec3{0.3f, 1, -0.2f});
   for (const Point3& p : {Point3{0, 0, 0}, Point3{8, -9, 3}}) {
     double sum = 0;
-    for (int i = 0; i < int(lights.size()); ++i) sum += v.pmf(i, p, ns);
+    for (int i = 0; i < int(lights.size()); ++i) sum += double(v.pmf(i, p, ns));
     EXPECT_NEAR(sum, 1.0, 1e-4);
     for (int k = 0; k < 4000; ++k) {
       Float pmf;

@@ -500,7 +500,7 @@ TEST(EnvMapLookup, LaneBlendMatchesTheTexelByTexelSum) {
       double want = 0, mag = 0;
       for (int k = 0; k < 4; ++k) {
         if (!(w[k] > 0)) continue;
-        const double term = double(light_detail::env_texel_spectrum(l, k, 0, lambda, one)[i]) * w[k];
+        const double term = double(light_detail::env_texel_spectrum(l, k, 0, lambda, one)[i]) * double(w[k]);
         want += term;
         mag += std::fabs(term);
       }

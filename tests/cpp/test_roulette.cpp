@@ -17,7 +17,7 @@ TEST(Roulette, CubeRootMatchesLibmOnTheUnitInterval) {
     for (int k = 0; k < 4096; ++k) {
       const float x = std::ldexp(1.0f + float(k) / 4096, e);
       const float y = path_detail::cbrt_unit(x);
-      ASSERT_NEAR(y / std::cbrt(double(x)), 1.0, 4e-6) << x;
+      ASSERT_NEAR(double(y) / std::cbrt(double(x)), 1.0, 4e-6) << x;
       ASSERT_LE(y, 1.0f);
     }
   EXPECT_LE(path_detail::cbrt_unit(std::nextafter(1.0f, 0.0f)), 1.0f);
