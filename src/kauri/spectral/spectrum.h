@@ -143,7 +143,7 @@ struct Spectrum {
   /// `*this` at the path's wavelengths. The reflectances inline: an RGB albedo's sigmoid,
   /// and a constant (every grey albedo: rgb_albedo() makes a flat sigmoid one),
   /// which out of line cost its call ~50 instructions for a copy (the Cornell box's white
-  /// walls: 2% of its instructions); the other kinds in sample_other.
+  /// walls: 1.2% of its instructions); the other kinds in sample_other.
   KAURI_HOST_DEVICE KAURI_FORCE_INLINE SampledSpectrum sample(const SampledWavelengths& w) const {
     if (type == SpectrumType::RGBAlbedo) return sample_sigmoid(rgb.poly, w);
     if (type == SpectrumType::Constant) return SampledSpectrum(constant);
