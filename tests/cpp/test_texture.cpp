@@ -2,6 +2,7 @@
 // reflectance spectrum of a filtered colour, and the per-texel fit's blend of spectra.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -55,6 +56,38 @@ TEST(ImageTexture, RepeatIsPeriodicAndBlendsAcrossTheSeam) {
   }
   // u = 0 lies halfway between the last column and the first: red and green average.
   expect_rgb(t.rgb({0.0f, 0.75f}), {0.5f, 0.5f, 0});
+}
+
+// The lookup's wrapping (a compare for coordinates within one period, the remainder
+// beyond) against the bilinear definition with Euclidean remainders, on a 5 × 3 texture
+// of distinct texels, at (u, v) from within the image to three periods away, seams and
+// texel edges included.
+TEST(ImageTexture, RepeatMatchesTheRemainderDefinitionEverywhere) {
+  const int w = 5, h = 3;
+  std::vector<float> texels(size_t(w * h * 3));
+  for (size_t i = 0; i < texels.size(); ++i) texels[i] = float((i * 37) % 101) / 100;
+  const ImageTexture t{texels.data(), w, h, TextureWrap::Repeat, &rgb_to_spectrum_table(ColorSpaceId::LinearSRGB)};
+  auto wrap = [](int i, int n) { return ((i % n) + n) % n; };
+  auto texel = [&](int x, int y) {
+    const float* p = &texels[3 * size_t(wrap(y, h) * w + wrap(x, w))];
+    return Vec3{p[0], p[1], p[2]};
+  };
+  std::mt19937 rng(1801);
+  std::uniform_real_distribution<float> coord(-3.0f, 4.0f);
+  std::vector<Vec2> uvs = {{0, 0}, {1, 1}, {0.1f, 0.5f}, {-1, 2}, {0.9f, 0.99f}, {-0.1f, -0.1f}, {3.5f, -2.5f}};
+  for (int i = 0; i < 2000; ++i) uvs.push_back({coord(rng), coord(rng)});
+  for (int i = 0; i < 200; ++i) uvs.push_back({float(int(coord(rng) * w)) / w, float(int(coord(rng) * h)) / h});
+  for (Vec2 uv : uvs) {
+    const float x = uv.x * float(w) - 0.5f, y = (1 - uv.y) * float(h) - 0.5f;
+    const float fx = std::floor(x), fy = std::floor(y), dx = x - fx, dy = y - fy;
+    const int x0 = int(fx), y0 = int(fy);
+    const Vec3 want = texel(x0, y0) * ((1 - dx) * (1 - dy)) + texel(x0 + 1, y0) * (dx * (1 - dy)) +
+                      texel(x0, y0 + 1) * ((1 - dx) * dy) + texel(x0 + 1, y0 + 1) * (dx * dy);
+    const Vec3 got = t.rgb(uv);
+    ASSERT_NEAR(got.x, want.x, 1e-6f) << uv.x << " " << uv.y;
+    ASSERT_NEAR(got.y, want.y, 1e-6f) << uv.x << " " << uv.y;
+    ASSERT_NEAR(got.z, want.z, 1e-6f) << uv.x << " " << uv.y;
+  }
 }
 
 TEST(ImageTexture, AlbedoSpectrumReproducesTheFilteredColour) {

@@ -70,19 +70,31 @@ struct ImageTexture {
     int x0 = int(fx), y0 = int(fy);
     Footprint f;
     f.x[0] = wrap_index(x0, width, wrap);
-    f.x[1] = wrap_index(x0 + 1, width, wrap);
+    f.x[1] = next_index(f.x[0], x0 + 1, width, wrap);
     f.y[0] = wrap_index(y0, height, wrap);
-    f.y[1] = wrap_index(y0 + 1, height, wrap);
+    f.y[1] = next_index(f.y[0], y0 + 1, height, wrap);
     f.w[0] = (1 - dx) * (1 - dy);
     f.w[1] = dx * (1 - dy);
     f.w[2] = (1 - dx) * dy;
     f.w[3] = dx * dy;
     return f;
   }
+  /// Texel index i (any integer) wrapped into [0, n). A texture read with (u, v) in [0, 1]
+  /// gives i in [−1, n]: repeat wraps it with a compare and an add, where the remainder is
+  /// an integer division (tens of cycles of latency, 4 per lookup before); tiled (u, v)
+  /// beyond one period takes the remainder.
   KAURI_HOST_DEVICE static int wrap_index(int i, int n, TextureWrap w) {
     if (w == TextureWrap::Clamp) return i < 0 ? 0 : (i >= n ? n - 1 : i);
+    if (i >= 0 && i < n) return i;
+    if (i < 0 && i >= -n) return i + n;
     int r = i % n;
     return r < 0 ? r + n : r;
+  }
+  /// wrap_index(i + 1, n, w) from `wrapped` = wrap_index(i, n, w): the neighbour's index
+  /// without a second remainder.
+  KAURI_HOST_DEVICE static int next_index(int wrapped, int i_plus_1, int n, TextureWrap w) {
+    if (w == TextureWrap::Clamp) return i_plus_1 < 0 ? 0 : (i_plus_1 >= n ? n - 1 : i_plus_1);
+    return wrapped + 1 == n ? 0 : wrapped + 1;
   }
   /// Texel (x, y), already wrapped.
   KAURI_HOST_DEVICE Vec3 texel(int x, int y) const {
