@@ -13,6 +13,16 @@ namespace kauri {
 
 KAURI_HOST_DEVICE inline Float sqr(Float x) { return x * x; }
 KAURI_HOST_DEVICE inline Float clamp(Float x, Float lo, Float hi) { return x < lo ? lo : (x > hi ? hi : x); }
+/// Integer i wrapped into [0, n) (repeating texel indices). A lookup at coordinates in
+/// [0, 1] gives i in [−1, n]: one compare and add wraps it, where the remainder is an
+/// integer division (tens of cycles of latency); i further out takes the remainder.
+KAURI_HOST_DEVICE inline int repeat_index(int i, int n) {
+  if (i >= 0 && i < n) return i;
+  if (i < 0 && i >= -n) return i + n;
+  if (i >= n && i < 2 * n) return i - n;
+  const int r = i % n;
+  return r < 0 ? r + n : r;
+}
 KAURI_HOST_DEVICE inline Float lerp(Float t, Float a, Float b) { return (1 - t) * a + t * b; }
 KAURI_HOST_DEVICE inline Float safe_sqrt(Float x) { return std::sqrt(x > 0 ? x : Float(0)); }
 KAURI_HOST_DEVICE inline Float safe_acos(Float x) { return std::acos(clamp(x, -1, 1)); }

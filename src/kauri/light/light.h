@@ -147,17 +147,9 @@ KAURI_HOST_DEVICE inline SampledSpectrum env_texel_radiance(const Light& l, Vec2
   Float x0f = std::floor(fx), y0f = std::floor(fy);
   Float dx = fx - x0f, dy = fy - y0f;
   int x0 = int(x0f), y0 = int(y0f);
-  // uv.x ∈ [0, 1] puts x0 in [−1, width − 1]: one step wraps it, without an integer
-  // division per lookup; the remainder stays for anything further out.
-  auto wrap_x = [&](int x) {
-    if (x < 0 && x >= -l.width) return x + l.width;
-    if (x >= 0 && x < l.width) return x;
-    if (x >= l.width && x < 2 * l.width) return x - l.width;
-    int r = x % l.width;
-    return r < 0 ? r + l.width : r;
-  };
+  // uv.x ∈ [0, 1] puts x0 in [−1, width − 1]: repeat_index wraps it without a division.
   auto clamp_y = [&](int y) { return y < 0 ? 0 : (y >= l.height ? l.height - 1 : y); };
-  int xa = wrap_x(x0), xb = wrap_x(x0 + 1), ya = clamp_y(y0), yb = clamp_y(y0 + 1);
+  int xa = repeat_index(x0, l.width), xb = repeat_index(x0 + 1, l.width), ya = clamp_y(y0), yb = clamp_y(y0 + 1);
   const SampledSpectrum I = sample_dense(l.illuminant, lambda);  // once for the four texels
   const Float w[4] = {(1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy};
   const int tx[4] = {xa, xb, xa, xb}, ty[4] = {ya, ya, yb, yb};

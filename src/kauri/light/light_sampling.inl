@@ -79,6 +79,7 @@ KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u
   if (l.type == LightType::EnvConstant) {
     s.wi = sample_uniform_sphere(u);
     s.pdf = uniform_sphere_pdf();
+    s.L = infinite_light_Le(l, s.wi, lambda);
   } else {
     Float pdf_uv;
     Vec2 uv = env_distribution(l, density).sample(u, &pdf_uv);
@@ -92,7 +93,6 @@ KAURI_HOST_DEVICE inline LightSample sample_env(const Light& l, Point3 p, Vec2 u
     s.L = env_texel_radiance(l, uv, lambda);
   }
   s.p_light = p + s.wi * (2 * l.scene_radius + distance(p, l.scene_center));
-  if (l.type == LightType::EnvConstant) s.L = infinite_light_Le(l, s.wi, lambda);
   return s;
 }
 

@@ -79,21 +79,16 @@ struct ImageTexture {
     f.w[3] = dx * dy;
     return f;
   }
-  /// Texel index i (any integer) wrapped into [0, n). A texture read with (u, v) in [0, 1]
-  /// gives i in [−1, n]: repeat wraps it with a compare and an add, where the remainder is
-  /// an integer division (tens of cycles of latency, 4 per lookup before); tiled (u, v)
-  /// beyond one period takes the remainder.
+  /// Texel index i (any integer) wrapped into [0, n) (repeat_index: no division within a
+  /// period of the image).
   KAURI_HOST_DEVICE static int wrap_index(int i, int n, TextureWrap w) {
     if (w == TextureWrap::Clamp) return i < 0 ? 0 : (i >= n ? n - 1 : i);
-    if (i >= 0 && i < n) return i;
-    if (i < 0 && i >= -n) return i + n;
-    int r = i % n;
-    return r < 0 ? r + n : r;
+    return repeat_index(i, n);
   }
-  /// wrap_index(i + 1, n, w) from `wrapped` = wrap_index(i, n, w): the neighbour's index
-  /// without a second remainder.
+  /// wrap_index(i + 1, n, w) from `wrapped` = wrap_index(i, n, w): a repeating neighbour's
+  /// index without wrapping i + 1 again.
   KAURI_HOST_DEVICE static int next_index(int wrapped, int i_plus_1, int n, TextureWrap w) {
-    if (w == TextureWrap::Clamp) return i_plus_1 < 0 ? 0 : (i_plus_1 >= n ? n - 1 : i_plus_1);
+    if (w == TextureWrap::Clamp) return wrap_index(i_plus_1, n, w);
     return wrapped + 1 == n ? 0 : wrapped + 1;
   }
   /// Texel (x, y), already wrapped.
