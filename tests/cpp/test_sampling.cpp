@@ -180,6 +180,38 @@ TEST(Sampling, SelectFormsOfTheDiskAndTriangleMapsMatchTheBranches) {
   EXPECT_EQ(select_if_less(std::nanf(""), 1, 3, 4), 4);  // as x < y: false for NaN
 }
 
+// rsqrt (the SSE estimate and one Newton step, core/math.h) against double precision over
+// the whole range of normal floats, at every power of two and between; normalize() from it
+// gives unit vectors for lengths from 2^-60 to 2^60; subnormals, 0 and ∞ take 1/√x. 5e-7 relative: a few ulps, well inside what a direction or normal needs.
+TEST(Sampling, ReciprocalSquareRootIsAccurateOverTheFloatRange) {
+  double worst = 0;
+  auto check = [&](Float x) {
+    const double want = 1 / std::sqrt(double(x)), got = double(rsqrt(x));
+    worst = std::max(worst, std::fabs(got / want - 1));
+    ASSERT_NEAR(got / want, 1.0, 5e-7) << "rsqrt(" << x << ")";
+  };
+  PCG32 rng(23, 8);
+  for (int e = -125; e <= 126; ++e) {
+    check(std::ldexp(1.0f, e));
+    for (int i = 0; i < 400; ++i) check(std::ldexp(1 + rng.next_float(), e));
+  }
+  check(1.17549435e-38f);  // the smallest normal
+  check(3.4028235e38f);    // the largest float
+  EXPECT_LT(worst, 5e-7);
+  std::printf("rsqrt: worst relative error %.3g\n", worst);
+  EXPECT_NEAR(double(rsqrt(1e-40f)) * std::sqrt(double(1e-40f)), 1.0, 1e-6);  // subnormal: 1/√x
+  EXPECT_EQ(rsqrt(0.0f), INFINITY);
+  EXPECT_EQ(rsqrt(INFINITY), 0);
+  EXPECT_TRUE(std::isnan(rsqrt(std::nanf(""))));
+  for (int i = 0; i < 100000; ++i) {
+    const Float scale = std::ldexp(1.0f, int(rng.next_u32() % 120) - 60);
+    const Vec3 v{(2 * rng.next_float() - 1) * scale, (2 * rng.next_float() - 1) * scale,
+                 (2 * rng.next_float() - 1) * scale};
+    if (!(length_squared(v) > 0)) continue;
+    ASSERT_NEAR(double(length(normalize(v))), 1.0, 1e-6) << v.x << " " << v.y << " " << v.z;
+  }
+}
+
 TEST(Sampling, PolynomialAtan2AndAcosMatchTheLibrary) {
   PCG32 rng(9, 4);
   double worst = 0;

@@ -307,7 +307,7 @@ struct RoughDielectricLobe {
     Vec3 h = refl ? wo + wi : wo + wi * e;
     const Float l2 = length_squared(h);
     if (!(l2 > 0)) return false;
-    h = h / std::sqrt(l2);
+    h = h * rsqrt(l2);
     if (h.z < 0) h = -h;
     if (h.z == 0) return false;
     const Float dot_o = dot(wo, h), dot_i = dot(wi, h);

@@ -230,10 +230,13 @@ KAURI_HOST_DEVICE inline SampledSpectrum area_light_L(const Light& l, Normal3 n,
 
 /// Converts an area density at a light point to solid angle from `p`.
 KAURI_HOST_DEVICE inline Float area_to_solid_angle(Float pdf_area, Point3 p, Point3 pl, Normal3 nl) {
+  // pdf_A r² / cos θ_l with cos θ_l = |n_l · d| / r: as pdf_A (r² / |n_l · d|) r, the
+  // division and the square root are independent (a square root then a division by its
+  // result was a dependency chain on every next-event sample).
   Vec3 d = pl - p;
   Float d2 = length_squared(d);
-  Float c = absdot(nl, d) / std::sqrt(d2);
-  return c > 0 ? pdf_area * d2 / c : 0;
+  Float nd = absdot(nl, d);
+  return nd > 0 ? pdf_area * (d2 / nd) * std::sqrt(d2) : 0;
 }
 
 /// `cache`: the path's EmissionCache (null: Le evaluated afresh). Triangle lights (every

@@ -110,7 +110,7 @@ KAURI_HOST_DEVICE inline LightSample sample_light_other(const Light& l, Point3 p
       Vec3 d = l.p0 - p;
       Float d2 = length_squared(d);
       if (d2 == 0) return s;
-      s.wi = d / std::sqrt(d2);
+      s.wi = d * rsqrt(d2);
       s.p_light = l.p0;
       s.pdf = 1;
       s.delta = true;
