@@ -48,10 +48,14 @@ KAURI_HOST_DEVICE inline Vec2 sample_uniform_disk(Vec2 u) {
   return {r * select_if_less(abs_b, abs_a, cs.x, cs.y), r * select_if_less(abs_b, abs_a, cs.y, cs.x)};
 }
 
-/// Malley's method: cosine-weighted hemisphere around +z, pdf = cosθ/π.
+/// Malley's method: cosine-weighted hemisphere around +z, pdf = cosθ/π. The concentric
+/// map's radius is r = max(|2u.x − 1|, |2u.y − 1|), so z = √((1 − r)(1 + r)) is known from
+/// u alone and computed beside the disk point's division and polynomial, not after them
+/// (√(1 − x² − y²) was the end of that dependency chain on every diffuse bounce).
 KAURI_HOST_DEVICE inline Vec3 sample_cosine_hemisphere(Vec2 u) {
-  Vec2 d = sample_uniform_disk(u);
-  return {d.x, d.y, safe_sqrt(1 - d.x * d.x - d.y * d.y)};
+  const Float r = fmax_(std::fabs(2 * u.x - 1), std::fabs(2 * u.y - 1));
+  const Vec2 d = sample_uniform_disk(u);
+  return {d.x, d.y, safe_sqrt((1 - r) * (1 + r))};
 }
 KAURI_HOST_DEVICE inline Float cosine_hemisphere_pdf(Float cos_theta) { return fmax_(cos_theta, 0) * kInvPi; }
 
