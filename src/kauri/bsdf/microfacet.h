@@ -62,21 +62,21 @@ struct MicrofacetDistribution {
     return type == MicrofacetType::Beckmann ? sample_visible_normal_beckmann(w, u) : sample_visible_normal_ggx(w, u);
   }
 
-  /// GGX (Heitz 2018, "Sampling the GGX distribution of visible normals", JCGT 7(4)):
-  /// stretch to the α = 1 configuration, sample the projected hemisphere, unstretch.
+  /// GGX by spherical caps (Dupuy & Benyoub 2023, "Sampling Visible GGX Normals with
+  /// Spherical Caps", HPG, listing 3): stretch ω to the α = 1 configuration (ω_s), where
+  /// the visible normals are h = ω_s + c with c uniform on the cap of the unit sphere
+  /// above z = −ω_s.z, and unstretch h. The same density as Heitz's construction (2018,
+  /// JCGT 7(4): a disk warped onto the visible hemisphere in a basis around ω_s) without
+  /// the basis and the disk's division: one normalisation fewer on the chain from the
+  /// stretched direction to the sampled normal.
   KAURI_HOST_DEVICE Vec3 sample_visible_normal_ggx(Vec3 w, Vec2 u) const {
-    Vec3 wh = normalize(Vec3{alpha_x * w.x, alpha_y * w.y, w.z});
-    if (wh.z < 0) wh = -wh;
-    Vec3 t1 = wh.z < 0.99999f ? normalize(cross(Vec3{0, 0, 1}, wh)) : Vec3{1, 0, 0};
-    Vec3 t2 = cross(wh, t1);
-    Vec2 p = sample_uniform_disk(u);
-    // Warp the disk so it projects onto the visible part of the hemisphere.
-    Float h = std::sqrt(1 - p.x * p.x);
-    Float s = (1 + wh.z) / 2;
-    p.y = lerp(s, h, p.y);
-    Float pz = safe_sqrt(1 - p.x * p.x - p.y * p.y);
-    Vec3 nh = t1 * p.x + t2 * p.y + wh * pz;
-    return normalize(Vec3{alpha_x * nh.x, alpha_y * nh.y, fmax_(1e-6f, nh.z)});
+    Vec3 ws = normalize(Vec3{alpha_x * w.x, alpha_y * w.y, w.z});
+    if (ws.z < 0) ws = -ws;
+    const Float z = (1 - u.y) * (1 + ws.z) - ws.z;  // uniform in (−ω_s.z, 1]
+    const Float sin_t = safe_sqrt((1 - z) * (1 + z));
+    const Vec2 cs = cos_sin_turns(u.x);
+    const Vec3 h{ws.x + sin_t * cs.x, ws.y + sin_t * cs.y, ws.z + z};
+    return normalize(Vec3{alpha_x * h.x, alpha_y * h.y, fmax_(1e-6f, h.z)});
   }
 
   /// Beckmann (Heitz & d'Eon 2014, "Importance Sampling Microfacet-Based BSDFs using
