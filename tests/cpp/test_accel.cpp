@@ -183,12 +183,17 @@ TEST(EmbreeAccel, HugeAndTinySpheresAreExactToFloatPrecision) {
       const bool ha = direct.intersect(r, &a);
       // Rays above the horizon miss; those well below it (the horizon dips ~2.5° at 3 m)
       // meet the planet.
-      if (r.d.y > 0) ASSERT_FALSE(ha) << i;
-      if (r.d.y < -0.1f) ASSERT_TRUE(ha) << i;
+      if (r.d.y > 0) {
+        ASSERT_FALSE(ha) << i;
+      }
+      if (r.d.y < -0.1f) {
+        ASSERT_TRUE(ha) << i;
+      }
       if (!ha) continue;
       ASSERT_EQ(a.geom, 0u);
-      const double p[3] = {r.o.x + double(a.t) * r.d.x, r.o.y + double(a.t) * r.d.y + 1e4,
-                           r.o.z + double(a.t) * r.d.z};
+      const double t = double(a.t);
+      const double p[3] = {double(r.o.x) + t * double(r.d.x), double(r.o.y) + t * double(r.d.y) + 1e4,
+                           double(r.o.z) + t * double(r.d.z)};
       ASSERT_NEAR(std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]), 1e4, 4e-3) << i;
       ++ground;
       continue;
@@ -197,14 +202,18 @@ TEST(EmbreeAccel, HugeAndTinySpheresAreExactToFloatPrecision) {
     const Point3 o{0, 1, 0}, c = shapes[1].sphere.center;
     const Point3 t = c + Vec3{rng.next_float() - 0.5f, rng.next_float() - 0.5f, 0} * 4e-3f;
     const Ray r{o, normalize(t - o), kInfinity};
-    const double f[3] = {double(c.x) - o.x, double(c.y) - o.y, double(c.z) - o.z};
+    const double f[3] = {double(c.x) - double(o.x), double(c.y) - double(o.y), double(c.z) - double(o.z)};
     const double d[3] = {r.d.x, r.d.y, r.d.z};
     const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2], fd = f[0] * d[0] + f[1] * d[1] + f[2] * d[2];
     const double ff = f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
     const double perp = std::sqrt(std::max(0.0, ff - fd * fd / dd)) / 1e-3;  // in radii
     const bool ha = direct.intersect(r, &a);
-    if (perp < 0.999) ASSERT_TRUE(ha) << i << " perp " << perp;
-    if (perp > 1.001) ASSERT_FALSE(ha) << i << " perp " << perp;
+    if (perp < 0.999) {
+      ASSERT_TRUE(ha) << i << " perp " << perp;
+    }
+    if (perp > 1.001) {
+      ASSERT_FALSE(ha) << i << " perp " << perp;
+    }
     if (ha) {
       ASSERT_EQ(a.geom, 1u);
       ++ball;
@@ -212,7 +221,9 @@ TEST(EmbreeAccel, HugeAndTinySpheresAreExactToFloatPrecision) {
     if (perp < 0.99 || perp > 1.01) {
       ++compared;
       ASSERT_EQ(ha, embree.intersect(r, &b)) << i << " perp " << perp;
-      if (ha) ASSERT_NEAR(a.t, b.t, 1e-4f * b.t) << i;
+      if (ha) {
+        ASSERT_NEAR(a.t, b.t, 1e-4f * b.t) << i;
+      }
     }
   }
   EXPECT_GT(ground, 4000);
