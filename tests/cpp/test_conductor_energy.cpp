@@ -159,6 +159,17 @@ TEST(Beckmann, VisibleNormalSamplingMatchesPdf) {
                  "beckmann aniso", 1201);
 }
 
+// GGX's visible normals by spherical caps (microfacet.h): the uncompensated lobe's sampled
+// directions (reflections of the sampled normals) against its pdf, at grazing, oblique and
+// normal incidence, isotropic and anisotropic, smooth and rough.
+TEST(GGX, VisibleNormalSamplingMatchesPdf) {
+  check_sampling(conductor(0.2f, 0.2f, MicrofacetType::GGX, false, false), dir(0.1f, 0.6f), "ggx a=0.2 grazing", 1210);
+  check_sampling(conductor(0.15f, 0.7f, MicrofacetType::GGX, false, false), dir(0.7f, 0.6f), "ggx aniso", 1211);
+  check_sampling(conductor(0.05f, 0.05f, MicrofacetType::GGX, false, false), dir(1.0f, 0.0f), "ggx a=0.05 normal",
+                 1212);
+  check_sampling(conductor(0.9f, 0.4f, MicrofacetType::GGX, false, false), dir(0.35f, 2.2f), "ggx rough aniso", 1213);
+}
+
 TEST(ConductorEnergy, CompensatedLobeIsReciprocal) {
   PCG32 rng(1300, 1);
   for (MicrofacetType t : kTypes)
