@@ -14,7 +14,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def test_build_info_names_compiler_target_and_profile():
     b = kauri.build_info
-    assert set(b) == {"compiler", "march", "pgo"}
+    assert set(b) == {"compiler", "march", "pgo", "cores"}
+    assert "base" in b["cores"] and set(b["cores"]) <= {"base", "x86-64-v4"}
     assert b["pgo"] in ("off", "generate", "use")
     assert b["compiler"].split()[0] in ("GNU", "Clang", "AppleClang") and b["march"]
 

@@ -204,7 +204,15 @@ RenderSettings render_settings(int width, int height, int spp, uint64_t seed, in
 }  // namespace
 }  // namespace kauri
 
-NB_MODULE(_core, m) {
+// The module's name comes from the build: `_core`, and `_core_v4` for the x86-64-v4 build of
+// the instruction-set dispatch (CMakeLists.txt, python/kauri/_isa.py). NB_MODULE pastes its
+// argument into PyInit_<name>, so the macro is expanded one level up.
+#ifndef KAURI_MODULE_NAME
+#define KAURI_MODULE_NAME _core
+#endif
+#define KAURI_NB_MODULE(name, m) NB_MODULE(name, m)
+
+KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
   using namespace kauri;
   m.doc() = "kauri core: spectral path tracer";
   m.attr("__version__") = KAURI_VERSION;
