@@ -157,6 +157,13 @@ TEST(Beckmann, VisibleNormalSamplingMatchesPdf) {
                  "beckmann a=0.2 grazing", 1200);
   check_sampling(conductor(0.15f, 0.7f, MicrofacetType::Beckmann, false, false), dir(0.7f, 0.6f),
                  "beckmann aniso", 1201);
+  // Normal and near-normal incidence: sin θ of the stretched direction came from
+  // √(1 − cos²θ), which cancels there (slopes of a third of their variance at sin θ = 2e-4;
+  // at ω = +z none at all where the CPU's rsqrt estimate rounds the normalised z below 1).
+  check_sampling(conductor(0.5f, 0.5f, MicrofacetType::Beckmann, false, false), dir(1.0f, 0.0f),
+                 "beckmann a=0.5 normal", 1202);
+  check_sampling(conductor(0.5f, 0.5f, MicrofacetType::Beckmann, false, false), normalize(Vec3{2e-4f, 1e-4f, 1}),
+                 "beckmann a=0.5 near-normal", 1203);
 }
 
 // GGX's visible normals by spherical caps (microfacet.h): the uncompensated lobe's sampled
