@@ -16,6 +16,7 @@
 #include "lobe_sampling_check.h"
 #include "lobe_test_util.h"
 #include "kauri/bsdf/lobe.h"
+#include "kauri/bsdf/oren_nayar.h"
 
 namespace kauri {
 namespace {
@@ -396,6 +397,32 @@ TEST(LobeUnion, ExtraLobesDispatch) {
     }
     SampledSpectrum a = lobes[k].albedo_r(wo) + lobes[k].albedo_t(wo);
     for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_LE(a[i], 1.0f) << names[k];
+  }
+}
+
+// ================================================================ near-normal incidence
+
+// Every extra lobe at a direction a float ulp off the normal, as normalize() leaves +z on a
+// CPU whose rsqrt estimate rounds it below 1, and at one with a small tangential part
+// (sin θ ≈ 2e-4), where √(1 − cos²θ) cancels: Beckmann's visible-normal sampling took its
+// azimuth from that difference and sampled the wrong lobe there (test_conductor_energy.cpp).
+// 14 chi-square tests (kChi2TestCount in chi2.h counts them).
+TEST(ExtraLobes, SamplingMatchesPdfNearNormalIncidence) {
+  const Vec3 ulp_off{0, 0, 1 - 0x1p-24f}, tilted = normalize(Vec3{2e-4f, 1e-4f, 1});
+  uint64_t seed = 1900;
+  for (Vec3 wo : {ulp_off, tilted}) {
+    const std::string at = wo.x == 0 ? " wo ulp off +z" : " wo sin(theta)=2.2e-4";
+    check_extra_lobe_sampling(SheenLobe::make(SampledSpectrum(1), 0.3f), wo, "sheen r=0.3" + at, seed++);
+    check_extra_lobe_sampling(SheenLobe::make(SampledSpectrum(1), 1.0f), wo, "sheen r=1" + at, seed++);
+    check_extra_lobe_sampling(DiffuseTransmissionLobe::make(SampledSpectrum(0.7f)), wo, "diffuse_transmission" + at,
+                              seed++);
+    check_extra_lobe_sampling(RoughDielectricLobe::make(SampledSpectrum(1.5f), 0.5f, 0.5f), wo,
+                              "ggx_dielectric eta=1.5 a=0.5" + at, seed++);
+    check_extra_lobe_sampling(RoughDielectricLobe::make(SampledSpectrum(1.5f), 0.1f, 0.4f), wo,
+                              "ggx_dielectric eta=1.5 aniso" + at, seed++);
+    check_extra_lobe_sampling(RoughDielectricLobe::make(SampledSpectrum(1 / 1.5f), 0.5f, 0.5f), wo,
+                              "ggx_dielectric eta=1/1.5 a=0.5" + at, seed++);
+    check_extra_lobe_sampling(OrenNayarLobe::make(SampledSpectrum(0.8f), 0.6f), wo, "oren_nayar sigma=0.6" + at, seed++);
   }
 }
 
