@@ -116,7 +116,7 @@ def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0
                sampler: str = "zsobol", max_depth: int = 16, max_diffuse: int = 6, max_glossy: int = 8,
                max_transmission: int = 12, filter: str = "gaussian", filter_radius: float = 2.0,
                filter_sigma: float = 0.5, reconstruction: str = "splat", max_rays: int = 50_000_000,
-               repeats: int = 3, aovs: bool = True, light_aa: int = 4) -> dict:
+               repeats: int = 3, aovs: bool = True, light_aa: int = 4, packets=()) -> dict:
     """Closeness to the limit: traces ``scene``'s paths on one thread recording every ray
     query, then ``repeats`` times renders it as render() would (multi-threaded, timed) and
     replays the recorded rays through the accelerator alone (Embree's rtcIntersect1 /
@@ -127,13 +127,24 @@ def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0
     ``fraction_of_embree`` (1 = the path tracer costs nothing beyond traversal).
     ``hits_match`` checks the replay found the same hits.
     ``aovs`` and ``light_aa`` as in render() (the extra camera rays are recorded and
-    replayed like every other ray)."""
+    replayed like every other ray).
+    ``packets``: widths (8, 16) at which the same rays are also replayed as Embree packets
+    of incoherent rays (rtcIntersect8/16, rtcOccluded8/16; the recorded order, a packet at
+    a time), in the same alternation: what traversal would cost an integrator that traces
+    a packet of paths at once. ``packet_replay[w]`` has their ``embree_rays_per_second``,
+    its ratio to the single-ray replay's (``speedup_over_single``) and ``hits_match``."""
     w, h = _check_render_args("ray_replay", scene, resolution, spp, seed, threads)
     _check_light_aa("ray_replay", light_aa)
+    try:
+        widths = [int(x) for x in packets]
+    except (TypeError, ValueError):
+        raise ValueError(f"ray_replay: parameter 'packets': expected a sequence of packet widths (8, 16), got {packets!r}") from None
+    if any(x not in (8, 16) for x in widths):
+        raise ValueError(f"ray_replay: parameter 'packets': widths must be 8 or 16, got {widths}")
     d = dict(_core.ray_replay(scene._core, w, h, int(spp), int(seed), int(threads), sampler, int(max_depth),
                               int(max_diffuse), int(max_glossy), int(max_transmission), filter, float(filter_radius),
                               float(filter_sigma), reconstruction, int(max_rays), int(repeats), bool(aovs),
-                              int(light_aa)))
+                              int(light_aa), widths))
     d["render_rays_per_second"] = d["render_rays"] / d["render_seconds"] if d["render_seconds"] > 0 else 0.0
     t = d["replay_closest_seconds"] + d["replay_shadow_seconds"]
     d["embree_rays_per_second"] = (d["closest_rays"] + d["shadow_rays"]) / t if t > 0 else 0.0
@@ -141,4 +152,15 @@ def ray_replay(scene: Scene, spp: int = 16, resolution=(128, 128), seed: int = 0
                                if d["embree_rays_per_second"] > 0 else 0.0)
     d["hits_match"] = (d["recorded_closest_hits"] == d["replay_closest_hits"] and
                        d["recorded_shadow_hits"] == d["replay_shadow_hits"])
+    n = d["closest_rays"] + d["shadow_rays"]
+    d["packet_replay"] = {}
+    for width, p in d.pop("packets").items():
+        tp = p["closest_seconds"] + p["shadow_seconds"]
+        rps = n / tp if tp > 0 else 0.0
+        d["packet_replay"][int(width)] = {
+            "closest_seconds": p["closest_seconds"], "shadow_seconds": p["shadow_seconds"],
+            "embree_rays_per_second": rps,
+            "speedup_over_single": rps / d["embree_rays_per_second"] if d["embree_rays_per_second"] > 0 else 0.0,
+            "hits_match": (p["closest_hits"] == d["recorded_closest_hits"] and
+                           p["shadow_hits"] == d["recorded_shadow_hits"])}
     return d

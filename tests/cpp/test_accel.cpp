@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "kauri/accel/embree_accel.h"
@@ -138,6 +139,45 @@ TEST(EmbreeAccel, PacketAnswersAsSingleRays) {
     }
     EXPECT_EQ(lanes, int(rays.size()));
     EXPECT_GT(hits, 4000);
+  }
+}
+
+// Streams (ray replay's packet mode): packets of 8 and 16 incoherent rays, the last one
+// partial, answer closest hits and occlusion exactly as the single-ray queries do, with
+// the direct shapes and with Embree's own spheres; a width Embree has no packet for is refused.
+TEST(EmbreeAccel, StreamAnswersAsSingleRays) {
+  TestScene sc;
+  const std::vector<Ray> rays = test_rays(sc, 6001);  // not a multiple of 8 or 16
+  for (size_t max_direct : {EmbreeAccel::kMaxDirectShapes, size_t(0)}) {
+    EmbreeAccel accel;
+    accel.build({sc.shapes}, {}, {}, max_direct);
+    for (int width : {8, 16}) {
+      std::vector<HitRecord> hits(rays.size());
+      std::vector<char> found(rays.size()), blocked(rays.size());
+      static_assert(sizeof(bool) == sizeof(char), "bool arrays as char storage");
+      accel.intersect_stream(rays.data(), rays.size(), width, hits.data(), reinterpret_cast<bool*>(found.data()));
+      accel.occluded_stream(rays.data(), rays.size(), width, reinterpret_cast<bool*>(blocked.data()));
+      int n_hits = 0, n_blocked = 0;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        HitRecord single;
+        const bool h = accel.intersect(rays[i], &single);
+        ASSERT_EQ(bool(found[i]), h) << "width " << width << " ray " << i;
+        ASSERT_EQ(bool(blocked[i]), accel.occluded(rays[i])) << "width " << width << " ray " << i;
+        n_blocked += blocked[i] ? 1 : 0;
+        if (!h) continue;
+        ++n_hits;
+        EXPECT_EQ(hits[i].geom, single.geom);
+        EXPECT_EQ(hits[i].prim, single.prim);
+        EXPECT_NEAR(hits[i].t, single.t, 1e-5f * std::max(Float(1), single.t));
+      }
+      EXPECT_GT(n_hits, 3000);
+      EXPECT_GT(n_blocked, 500);
+      EXPECT_LT(n_blocked, 5500);
+    }
+    HitRecord h;
+    bool f;
+    EXPECT_THROW(accel.intersect_stream(rays.data(), 1, 4, &h, &f), std::invalid_argument);
+    EXPECT_THROW(accel.occluded_stream(rays.data(), 1, 32, &f), std::invalid_argument);
   }
 }
 

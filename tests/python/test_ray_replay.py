@@ -9,7 +9,7 @@ import kauri
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "bench"))
 import peers  # noqa: E402
-from scenes import cornell, glossy  # noqa: E402
+from scenes import cornell, glossy, textured  # noqa: E402
 
 
 @pytest.mark.parametrize("mod", [cornell, glossy], ids=["cornell", "glossy"])
@@ -36,3 +36,22 @@ def test_replay_recording_cap_is_reported():
 def test_replay_bad_input():
     with pytest.raises(kauri.SceneError, match="ray_replay: the scene has no camera"):
         kauri.ray_replay(kauri.Scene())
+
+
+@pytest.mark.parametrize("mod", [cornell, textured], ids=["cornell", "textured (a direct sphere)"])
+def test_packet_replay_finds_the_same_hits(mod):
+    scene = peers.to_kauri(mod.describe())
+    r = kauri.ray_replay(scene, spp=2, resolution=(24, 24), seed=3, threads=2, repeats=1, packets=(8, 16))
+    assert r["hits_match"]
+    assert sorted(r["packet_replay"]) == [8, 16]
+    for width, p in r["packet_replay"].items():
+        assert p["hits_match"], (width, p)
+        assert p["embree_rays_per_second"] > 0 and p["speedup_over_single"] > 0
+
+
+def test_packet_replay_bad_widths():
+    scene = peers.to_kauri(cornell.describe())
+    with pytest.raises(ValueError, match="packets': widths must be 8 or 16, got \\[4\\]"):
+        kauri.ray_replay(scene, spp=1, resolution=(8, 8), packets=(4,))
+    with pytest.raises(ValueError, match="expected a sequence of packet widths"):
+        kauri.ray_replay(scene, spp=1, resolution=(8, 8), packets=8)

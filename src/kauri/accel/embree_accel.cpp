@@ -1,5 +1,6 @@
 #include "kauri/accel/embree_accel.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -120,33 +121,60 @@ void EmbreeAccel::build(const std::vector<std::vector<ShapeView>>& groups, const
   check(device_, "building the acceleration structure");
 }
 
-void EmbreeAccel::intersect_packet(const Ray* rays, int n, HitRecord* hits, bool* found) const {
-  alignas(32) int valid[kPacketSize];
-  alignas(32) RTCRayHit8 rh;
-  Float tmax[kPacketSize];
-  int direct[kPacketSize];
-  for (int k = 0; k < kPacketSize; ++k) {
-    valid[k] = k < n ? -1 : 0;
-    const Ray& r = rays[k < n ? k : 0];
+namespace {
+
+/// Embree's packet types and calls by width.
+template <int W> struct EmbreePacket;
+template <> struct EmbreePacket<8> {
+  using RayHit = RTCRayHit8;
+  using Ray = RTCRay8;
+  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) { rtcIntersect8(valid, s, c, r); }
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded8(valid, s, c, r); }
+};
+template <> struct EmbreePacket<16> {
+  using RayHit = RTCRayHit16;
+  using Ray = RTCRay16;
+  static void intersect(const int* valid, RTCScene s, RTCIntersectContext* c, RayHit* r) { rtcIntersect16(valid, s, c, r); }
+  static void occluded(const int* valid, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded16(valid, s, c, r); }
+};
+
+/// Lane k of an Embree packet ray from `r`, traversed up to `tmax`.
+template <class PacketRay>
+void set_packet_ray(PacketRay& p, int k, const Ray& r, Float tmax) {
+  p.org_x[k] = r.o.x; p.org_y[k] = r.o.y; p.org_z[k] = r.o.z;
+  p.dir_x[k] = r.d.x; p.dir_y[k] = r.d.y; p.dir_z[k] = r.d.z;
+  p.tnear[k] = 0;
+  p.tfar[k] = tmax;
+  p.time[k] = 0;
+  p.mask[k] = ~0u;
+  p.id[k] = unsigned(k);
+  p.flags[k] = 0;
+}
+
+}  // namespace
+
+template <int W>
+void EmbreeAccel::intersect_one_packet(const Ray* rays, int m, bool coherent, HitRecord* hits, bool* found) const {
+  using P = EmbreePacket<W>;
+  alignas(64) int valid[W];
+  alignas(64) typename P::RayHit rh;
+  Float tmax[W];
+  int direct[W];
+  for (int k = 0; k < W; ++k) {
+    valid[k] = k < m ? -1 : 0;
+    const Ray& r = rays[k < m ? k : 0];
     // The direct shapes first, as in intersect(): a hit shortens the ray Embree traverses.
     tmax[k] = r.tmax;
-    direct[k] = k < n ? nearest_direct(r, &tmax[k]) : -1;
-    rh.ray.org_x[k] = r.o.x; rh.ray.org_y[k] = r.o.y; rh.ray.org_z[k] = r.o.z;
-    rh.ray.dir_x[k] = r.d.x; rh.ray.dir_y[k] = r.d.y; rh.ray.dir_z[k] = r.d.z;
-    rh.ray.tnear[k] = 0;
-    rh.ray.tfar[k] = tmax[k];
-    rh.ray.time[k] = 0;
-    rh.ray.mask[k] = ~0u;
-    rh.ray.id[k] = unsigned(k);
-    rh.ray.flags[k] = 0;
+    direct[k] = k < m ? nearest_direct(r, &tmax[k]) : -1;
+    set_packet_ray(rh.ray, k, r, tmax[k]);
     rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
   }
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
-  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  rtcIntersect8(valid, root_, &ctx, &rh);
-  for (int k = 0; k < n; ++k) {
+  if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  P::intersect(valid, root_, &ctx, &rh);
+  for (int k = 0; k < m; ++k) {
     found[k] = true;
     if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID)
       hits[k] = embree_hit(rh.ray.tfar[k], rh.hit.u[k], rh.hit.v[k], rh.hit.geomID[k], rh.hit.primID[k],
@@ -156,6 +184,56 @@ void EmbreeAccel::intersect_packet(const Ray* rays, int n, HitRecord* hits, bool
     else
       found[k] = false;
   }
+}
+
+void EmbreeAccel::intersect_packet(const Ray* rays, int n, HitRecord* hits, bool* found) const {
+  intersect_one_packet<kPacketSize>(rays, n, true, hits, found);
+}
+
+template <int W>
+void EmbreeAccel::occluded_stream_w(const Ray* rays, size_t n, bool* blocked) const {
+  using P = EmbreePacket<W>;
+  for (size_t i0 = 0; i0 < n; i0 += W) {
+    const int m = int(std::min<size_t>(W, n - i0));
+    alignas(64) int valid[W];
+    alignas(64) typename P::Ray ray;
+    bool by_direct[W];
+    for (int k = 0; k < W; ++k) {
+      const Ray& r = rays[i0 + size_t(k < m ? k : 0)];
+      by_direct[k] = false;
+      if (k < m)
+        for (const DirectShape& s : direct_) {
+          Float t;
+          if (s.intersect(r, r.tmax, &t)) {
+            by_direct[k] = true;
+            break;
+          }
+        }
+      valid[k] = k < m && !by_direct[k] ? -1 : 0;  // as occluded(): a direct shape answers first
+      set_packet_ray(ray, k, r, r.tmax);
+    }
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    P::occluded(valid, root_, &ctx, &ray);
+    for (int k = 0; k < m; ++k) blocked[i0 + size_t(k)] = by_direct[k] || ray.tfar[k] < 0;
+  }
+}
+
+void EmbreeAccel::intersect_stream(const Ray* rays, size_t n, int width, HitRecord* hits, bool* found) const {
+  if (!stream_width_supported(width))
+    throw std::invalid_argument("intersect_stream: width must be 8 or 16, not " + std::to_string(width));
+  for (size_t i = 0; i < n; i += size_t(width)) {  // incoherent rays: Embree's default context
+    const int m = int(std::min<size_t>(size_t(width), n - i));
+    if (width == 16) intersect_one_packet<16>(rays + i, m, false, hits + i, found + i);
+    else intersect_one_packet<8>(rays + i, m, false, hits + i, found + i);
+  }
+}
+
+void EmbreeAccel::occluded_stream(const Ray* rays, size_t n, int width, bool* blocked) const {
+  if (!stream_width_supported(width))
+    throw std::invalid_argument("occluded_stream: width must be 8 or 16, not " + std::to_string(width));
+  if (width == 16) occluded_stream_w<16>(rays, n, blocked);
+  else occluded_stream_w<8>(rays, n, blocked);
 }
 
 }  // namespace kauri

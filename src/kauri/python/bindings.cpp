@@ -421,7 +421,7 @@ KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
                          const std::string& sampler, int max_depth, int max_diffuse, int max_glossy,
                          int max_transmission, const std::string& filter, float filter_radius, float filter_sigma,
                          const std::string& reconstruction,
-                         size_t max_rays, int repeats, bool aovs, int light_aa) {
+                         size_t max_rays, int repeats, bool aovs, int light_aa, std::vector<int> packets) {
     RenderSettings cfg = render_settings(width, height, spp, seed, threads, 0, sampler, max_depth, max_diffuse,
                                          max_glossy, max_transmission, 0, filter, filter_radius, filter_sigma,
                                          reconstruction, false);
@@ -429,8 +429,12 @@ KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
     if (light_aa < 0 || light_aa > kLightAAMaxRays)
       throw std::invalid_argument("ray_replay: parameter 'light_aa': must be in [0, 64]");
     cfg.light_aa = light_aa;
+    for (int w : packets)
+      if (!EmbreeAccel::stream_width_supported(w))
+        throw std::invalid_argument("ray_replay: parameter 'packets': widths must be 8 or 16, not " + std::to_string(w));
     RayLog log;
     ReplayResult rep;
+    std::vector<ReplayResult> rep_packets(packets.size());
     RenderStats stats;
     {
       nb::gil_scoped_release release;
@@ -450,6 +454,14 @@ KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
         rep.shadow_seconds = std::min(rep.shadow_seconds, r.shadow_seconds);
         rep.closest_hits = r.closest_hits;
         rep.shadow_hits = r.shadow_hits;
+        for (size_t i = 0; i < packets.size(); ++i) {  // in the same alternation
+          const ReplayResult p = replay_rays(compiled->accel(), log, threads, 1, packets[i]);
+          ReplayResult& b = rep_packets[i];
+          b.closest_seconds = k == 0 ? p.closest_seconds : std::min(b.closest_seconds, p.closest_seconds);
+          b.shadow_seconds = k == 0 ? p.shadow_seconds : std::min(b.shadow_seconds, p.shadow_seconds);
+          b.closest_hits = p.closest_hits;
+          b.shadow_hits = p.shadow_hits;
+        }
       }
       timer.record(&stats);
     }
@@ -465,6 +477,16 @@ KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
     d["replay_closest_seconds"] = rep.closest_seconds;
     d["replay_shadow_seconds"] = rep.shadow_seconds;
     d["complete"] = log.closest.size() + log.shadow.size() == stats.rays;
+    nb::dict by_width;
+    for (size_t i = 0; i < packets.size(); ++i) {
+      nb::dict e;
+      e["closest_seconds"] = rep_packets[i].closest_seconds;
+      e["shadow_seconds"] = rep_packets[i].shadow_seconds;
+      e["closest_hits"] = rep_packets[i].closest_hits;
+      e["shadow_hits"] = rep_packets[i].shadow_hits;
+      by_width[nb::int_(packets[i])] = e;
+    }
+    d["packets"] = by_width;
     return d;
   });
 

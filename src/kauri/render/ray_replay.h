@@ -1,6 +1,6 @@
 // Closeness to the limit: record the ray queries a render makes, then replay them
 // through the accelerator alone (Embree's rtcIntersect1 / rtcOccluded1, one ray per call,
-// as the path tracer issues them, and the direct tests of a few analytic shapes). The ratio of the render's rays/s to the replay's rays/s says
+// as the path tracer issues them, or in packets of 8 or 16, and the direct tests of a few analytic shapes). The ratio of the render's rays/s to the replay's rays/s says
 // how much of the time goes to everything that is not ray traversal. Host code.
 #pragma once
 
@@ -32,6 +32,11 @@ struct ReplayResult {
 };
 
 /// Replays `log` through `accel` on `threads` threads (0 = all cores), `repeats` times.
-ReplayResult replay_rays(const EmbreeAccel& accel, const RayLog& log, int threads, int repeats);
+/// `packet` 1: every query alone (rtcIntersect1 / rtcOccluded1, as the path tracer issues
+/// them); 8 or 16: the log's queries in order, `packet` at a time, as Embree packets of
+/// incoherent rays (rtcIntersect8/16, rtcOccluded8/16): what traversal would cost a
+/// wavefront integrator that hands Embree a packet of paths' rays (consecutive recorded
+/// rays are one path's bounces and its neighbours', about as incoherent as such a packet).
+ReplayResult replay_rays(const EmbreeAccel& accel, const RayLog& log, int threads, int repeats, int packet = 1);
 
 }  // namespace kauri
