@@ -26,7 +26,7 @@ std::pair<double, uint64_t> timed_packets(tbb::task_arena& arena, const std::vec
     hits = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, chunks, std::max<size_t>(1, 4096 / packet)), uint64_t(0),
         [&](const tbb::blocked_range<size_t>& r, uint64_t n) {
-          bool answers[16];
+          bool answers[16] = {};
           for (size_t c = r.begin(); c != r.end(); ++c) {
             const size_t first = c * packet, count = std::min(packet, rays.size() - first);
             query(rays.data() + first, count, answers);
