@@ -11,10 +11,12 @@ each render's CPU time.
 Why paired: on the 2-core VMs these sessions run on, a build's render time drifts by
 ±30% within minutes (other tenants of the host), far more than the few percent a change is
 worth. Here A and B run *at the same moments*, one per core (pinned with taskset, cores
-swapped every round), and the statistic is the per-render ratio B / A of renders that ran
-side by side, so drift that hits both cores cancels. Even so, an A-against-A run spread
-0.91-1.14 (quartiles of 18 pairs) on the Xeon of docs/benchmarks.md: read the median of
-30 or more pairs, and run A against A first to see the machine's spread that day.
+swapped every round; both load and warm up, then start their timed renders together),
+and the statistic is the per-render ratio B / A of renders that ran side by side, so drift
+that hits both cores cancels. Even so, A against A gave medians 0.995 and 1.03 with
+quartiles as wide as 0.75-1.30 (30 pairs each) on the Xeon of docs/benchmarks.md: read
+the median of 30 or more pairs, run A against A first to see the machine's spread that
+day, and run both orders (--a X --b Y, then --a Y --b X).
 
 Instruction counts (callgrind, docs/developing.md) are exact but miss latency; this tool
 measures time, for changes that move latency rather than instruction counts.
@@ -47,6 +49,8 @@ import importlib, peers
 desc = importlib.import_module("scenes." + name).describe()
 scene = peers.kauri_scene(desc)
 kauri.render(scene, spp=4, resolution=(res, res), seed=0, aovs=False, threads=1, **peers.KAURI_PATH_LIMITS)
+print("ready", flush=True)
+sys.stdin.readline()  # both sides start their timed renders together
 for r in range(reps):
     t = time.process_time()
     kauri.render(scene, spp=spp, resolution=(res, res), seed=r + 1, aovs=False, threads=1, **peers.KAURI_PATH_LIMITS)
@@ -112,9 +116,13 @@ def main(argv=None) -> int:
         ta, tb = [], []
         for r in range(args.rounds):
             ca, cb = (str(cpus[0]), str(cpus[1])) if r % 2 == 0 else (str(cpus[1]), str(cpus[0]))
-            procs = [subprocess.Popen(worker_cmd(c, pkg, args, worker), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                      text=True, env=env) for c, pkg in ((ca, pa), (cb, pb))]
-            outs = [proc.communicate() for proc in procs]
+            procs = [subprocess.Popen(worker_cmd(c, pkg, args, worker), stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                      stderr=subprocess.PIPE, text=True, env=env) for c, pkg in ((ca, pa), (cb, pb))]
+            # Both import kauri, build the scene and warm up, then start timing together:
+            # the side that loads faster would otherwise render its first frames alone.
+            for proc in procs:
+                proc.stdout.readline()  # "ready" (or "" if it failed; communicate() reports it)
+            outs = [proc.communicate("go\n") for proc in procs]
             for proc, (out, err), side in zip(procs, outs, "AB"):
                 if proc.returncode:
                     raise SystemExit(f"side {side} failed:\n{err[-2000:]}")
