@@ -191,32 +191,21 @@ void EmbreeAccel::intersect_packet(const Ray* rays, int n, HitRecord* hits, bool
 }
 
 template <int W>
-void EmbreeAccel::occluded_stream_w(const Ray* rays, size_t n, bool* blocked) const {
+void EmbreeAccel::occluded_one_packet(const Ray* rays, int m, bool* blocked) const {
   using P = EmbreePacket<W>;
-  for (size_t i0 = 0; i0 < n; i0 += W) {
-    const int m = int(std::min<size_t>(W, n - i0));
-    alignas(64) int valid[W];
-    alignas(64) typename P::Ray ray;
-    bool by_direct[W];
-    for (int k = 0; k < W; ++k) {
-      const Ray& r = rays[i0 + size_t(k < m ? k : 0)];
-      by_direct[k] = false;
-      if (k < m)
-        for (const DirectShape& s : direct_) {
-          Float t;
-          if (s.intersect(r, r.tmax, &t)) {
-            by_direct[k] = true;
-            break;
-          }
-        }
-      valid[k] = k < m && !by_direct[k] ? -1 : 0;  // as occluded(): a direct shape answers first
-      set_packet_ray(ray, k, r, r.tmax);
-    }
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    P::occluded(valid, root_, &ctx, &ray);
-    for (int k = 0; k < m; ++k) blocked[i0 + size_t(k)] = by_direct[k] || ray.tfar[k] < 0;
+  alignas(64) int valid[W];
+  alignas(64) typename P::Ray ray;
+  bool by_direct[W];
+  for (int k = 0; k < W; ++k) {
+    const Ray& r = rays[k < m ? k : 0];
+    by_direct[k] = k < m && blocked_by_direct(r);  // as occluded(): a direct shape answers first
+    valid[k] = k < m && !by_direct[k] ? -1 : 0;
+    set_packet_ray(ray, k, r, r.tmax);
   }
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  P::occluded(valid, root_, &ctx, &ray);
+  for (int k = 0; k < m; ++k) blocked[k] = by_direct[k] || ray.tfar[k] < 0;
 }
 
 void EmbreeAccel::intersect_stream(const Ray* rays, size_t n, int width, HitRecord* hits, bool* found) const {
@@ -232,8 +221,11 @@ void EmbreeAccel::intersect_stream(const Ray* rays, size_t n, int width, HitReco
 void EmbreeAccel::occluded_stream(const Ray* rays, size_t n, int width, bool* blocked) const {
   if (!stream_width_supported(width))
     throw std::invalid_argument("occluded_stream: width must be 8 or 16, not " + std::to_string(width));
-  if (width == 16) occluded_stream_w<16>(rays, n, blocked);
-  else occluded_stream_w<8>(rays, n, blocked);
+  for (size_t i = 0; i < n; i += size_t(width)) {
+    const int m = int(std::min<size_t>(size_t(width), n - i));
+    if (width == 16) occluded_one_packet<16>(rays + i, m, blocked + i);
+    else occluded_one_packet<8>(rays + i, m, blocked + i);
+  }
 }
 
 }  // namespace kauri

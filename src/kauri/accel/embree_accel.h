@@ -76,6 +76,7 @@ class EmbreeAccel {
   /// Widths of intersect_stream() / occluded_stream(): Embree's rtcIntersect8/16 and
   /// rtcOccluded8/16 packets.
   static bool stream_width_supported(int width) { return width == 8 || width == 16; }
+  static constexpr int kMaxStreamWidth = 16;
   /// Closest hits of `n` rays, `width` at a time in Embree packets of incoherent rays
   /// (ray replay's packet mode: what a wavefront integrator's traversal would cost); the
   /// same answers as intersect() ray by ray. `width`: stream_width_supported().
@@ -83,10 +84,7 @@ class EmbreeAccel {
   /// Whether each of `n` rays is blocked, `width` at a time, as occluded() ray by ray.
   void occluded_stream(const Ray* rays, size_t n, int width, bool* blocked) const;
   bool occluded(const Ray& r) const {
-    for (const DirectShape& s : direct_) {
-      Float t;
-      if (s.intersect(r, r.tmax, &t)) return true;
-    }
+    if (blocked_by_direct(r)) return true;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay ray;
@@ -109,7 +107,16 @@ class EmbreeAccel {
   RTCScene build_group(const std::vector<ShapeView>& shapes, bool keep_analytic);
   /// One Embree packet of m ≤ W rays (`coherent`: Embree's hint for rays that travel together).
   template <int W> void intersect_one_packet(const Ray* rays, int m, bool coherent, HitRecord* hits, bool* found) const;
-  template <int W> void occluded_stream_w(const Ray* rays, size_t n, bool* blocked) const;
+  /// One Embree packet of m ≤ W shadow rays.
+  template <int W> void occluded_one_packet(const Ray* rays, int m, bool* blocked) const;
+  /// Whether a direct shape blocks `r` (occlusion queries test them before Embree).
+  bool blocked_by_direct(const Ray& r) const {
+    for (const DirectShape& s : direct_) {
+      Float t;
+      if (s.intersect(r, r.tmax, &t)) return true;
+    }
+    return false;
+  }
   /// The nearest direct shape `r` meets before `*tmax` (which it shortens), or −1.
   int nearest_direct(const Ray& r, Float* tmax) const {
     int direct = -1;

@@ -446,6 +446,7 @@ KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
       // against the best of several replays moved the ratio by up to 14 points between
       // runs of the same code (docs/benchmarks.md).
       rep.closest_seconds = rep.shadow_seconds = 1e300;
+      for (ReplayResult& b : rep_packets) b.closest_seconds = b.shadow_seconds = 1e300;
       for (int k = 0; k < std::max(1, repeats); ++k) {
         const RenderStats s = render(*compiled, cfg).stats;
         if (k == 0 || s.seconds < stats.seconds) stats = s;
@@ -457,8 +458,8 @@ KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
         for (size_t i = 0; i < packets.size(); ++i) {  // in the same alternation
           const ReplayResult p = replay_rays(compiled->accel(), log, threads, 1, packets[i]);
           ReplayResult& b = rep_packets[i];
-          b.closest_seconds = k == 0 ? p.closest_seconds : std::min(b.closest_seconds, p.closest_seconds);
-          b.shadow_seconds = k == 0 ? p.shadow_seconds : std::min(b.shadow_seconds, p.shadow_seconds);
+          b.closest_seconds = std::min(b.closest_seconds, p.closest_seconds);
+          b.shadow_seconds = std::min(b.shadow_seconds, p.shadow_seconds);
           b.closest_hits = p.closest_hits;
           b.shadow_hits = p.shadow_hits;
         }

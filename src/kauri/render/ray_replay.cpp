@@ -26,7 +26,7 @@ std::pair<double, uint64_t> timed_packets(tbb::task_arena& arena, const std::vec
     hits = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, chunks, std::max<size_t>(1, 4096 / packet)), uint64_t(0),
         [&](const tbb::blocked_range<size_t>& r, uint64_t n) {
-          bool answers[16] = {};
+          bool answers[EmbreeAccel::kMaxStreamWidth] = {};
           for (size_t c = r.begin(); c != r.end(); ++c) {
             const size_t first = c * packet, count = std::min(packet, rays.size() - first);
             query(rays.data() + first, count, answers);
@@ -59,7 +59,7 @@ ReplayResult replay_rays(const EmbreeAccel& accel, const RayLog& log, int thread
     } else {
       const size_t w = size_t(packet);
       c = timed_packets(arena, log.closest, w, [&](const Ray* r, size_t n, bool* found) {
-        HitRecord h[16];
+        HitRecord h[EmbreeAccel::kMaxStreamWidth];
         accel.intersect_stream(r, n, packet, h, found);
       });
       s = timed_packets(arena, log.shadow, w, [&](const Ray* r, size_t n, bool* blocked) {

@@ -1,7 +1,8 @@
 // Closeness to the limit: record the ray queries a render makes, then replay them
 // through the accelerator alone (Embree's rtcIntersect1 / rtcOccluded1, one ray per call,
-// as the path tracer issues them, or in packets of 8 or 16, and the direct tests of a few analytic shapes). The ratio of the render's rays/s to the replay's rays/s says
-// how much of the time goes to everything that is not ray traversal. Host code.
+// as the path tracer issues them, or in packets of 8 or 16; and the direct tests of a few
+// analytic shapes). The ratio of the render's rays/s to the replay's rays/s says how much
+// of the time goes to everything that is not ray traversal. Host code.
 #pragma once
 
 #include <cstdint>
