@@ -11,7 +11,7 @@ from .scene import Scene, SceneError
 
 _RENDER_KEYS = ("spp", "resolution", "seed", "threads", "time_limit", "sampler", "max_depth", "max_diffuse",
                 "max_glossy", "max_transmission", "rr_depth", "clamp", "filter", "filter_radius", "filter_sigma", "reconstruction",
-                "progress", "aovs", "light_sampler", "light_aa")
+                "progress", "aovs", "light_sampler", "light_aa", "path_lanes")
 
 
 @dataclass
@@ -62,7 +62,7 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
            max_glossy: int = 8, max_transmission: int = 12, clamp: float = 0.0, filter: str = "gaussian",
            filter_radius: float = 2.0, filter_sigma: float = 0.5, reconstruction: str = "splat",
            progress: bool = False, aovs: bool = True, light_sampler: str = "tree", rr_depth: int = 4,
-           light_aa: int = 4, **extra) -> RenderOutput:
+           light_aa: int = 4, path_lanes: bool = False, **extra) -> RenderOutput:
     """Renders ``scene``; returns a RenderOutput. Stops after ``spp`` samples per pixel or at
     the first pass boundary after ``time_limit`` seconds. Deterministic for a given seed,
     whatever ``threads`` is. The pixel filter is a Gaussian of std-dev ``filter_sigma``
@@ -101,7 +101,7 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
     r = _core.render(scene._core, w, h, int(spp), int(seed), int(threads), float(time_limit), sampler,
                      int(max_depth), int(max_diffuse), int(max_glossy), int(max_transmission), float(clamp),
                      filter, float(filter_radius), float(filter_sigma), reconstruction, bool(progress), bool(aovs),
-                     light_sampler, int(rr_depth), int(light_aa))
+                     light_sampler, int(rr_depth), int(light_aa), bool(path_lanes))
     return RenderOutput(r.rgba, r.albedo, r.normal, r.depth, r.stats, r.color_space, r)
 
 

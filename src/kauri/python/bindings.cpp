@@ -371,6 +371,7 @@ KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
         d["compile_seconds"] = s.compile_seconds;
         d["scene_reused"] = s.scene_reused;
         d["light_aa_pixels"] = s.light_aa_pixels;
+        d["path_lanes"] = s.path_lanes;
         d["summary"] = s.summary();
         return d;
       })
@@ -388,7 +389,7 @@ KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
                      const std::string& sampler, int max_depth, int max_diffuse, int max_glossy, int max_transmission,
                      float clamp, const std::string& filter, float filter_radius, float filter_sigma,
                      const std::string& reconstruction, bool progress, bool aovs, const std::string& light_sampler,
-                     int rr_depth, int light_aa) {
+                     int rr_depth, int light_aa, bool path_lanes) {
     RenderSettings cfg = render_settings(width, height, spp, seed, threads, time_limit, sampler, max_depth, max_diffuse,
                                          max_glossy, max_transmission, clamp, filter, filter_radius, filter_sigma,
                                          reconstruction, progress);
@@ -398,6 +399,7 @@ KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
     if (light_aa < 0 || light_aa > kLightAAMaxRays)
       throw std::invalid_argument("render: parameter 'light_aa': must be in [0, 64]");
     cfg.light_aa = light_aa;
+    cfg.integrator.path_lanes = path_lanes;
     if (light_sampler == "tree") cfg.integrator.light_tree = true;
     else if (light_sampler == "power") cfg.integrator.light_tree = false;
     else

@@ -15,7 +15,9 @@
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
+#include "kauri/integrator/path_lanes.h"
 #include "kauri/integrator/path_tracer.h"
 #include "kauri/film/splat_lanes.h"
 #include "kauri/render/light_aa.h"
@@ -105,6 +107,7 @@ struct TileContext {
   // Light antialiasing: per pixel 0 (not probed yet), 1 (off) or 2 (flagged); null: off.
   uint8_t* light_aa_flags = nullptr;
   Float light_aa_min_spread = 0;  // light_colours_differ's threshold
+  bool path_lanes = false;        // the group's paths in vector lanes (trace_paths_lanes)
 };
 
 /// Settings the render loop relies on (the Python layer checks them first, with its names).
@@ -332,6 +335,26 @@ void light_aa_rays(const TileContext& c, const Accel& accel, int x, int y, uint3
   }
 }
 
+/// The paths of a group of n camera samples: in vector lanes where the render allows it
+/// (TileContext::path_lanes, Embree's packets at hand), else one by one.
+template <class Accel>
+void trace_group(const TileContext& c, const Accel& accel, const Ray* camera_rays, SampledWavelengths* lambdas,
+                 Sampler* samplers, PathOutput* outs, const HitRecord* primary, const bool* primary_found, int n) {
+  for (int k = 0; k < n; ++k) outs[k] = PathOutput{};
+#if KAURI_PATH_LANES
+  if constexpr (std::is_same_v<Accel, EmbreeAccel>) {
+    if (c.path_lanes) {
+      trace_paths_lanes(c.scene.view(), accel, c.cfg.integrator, camera_rays, lambdas, samplers, outs, primary,
+                        primary_found, n);
+      return;
+    }
+  }
+#endif
+  for (int k = 0; k < n; ++k)
+    trace_path(c.scene.view(), accel, c.cfg.integrator, camera_rays[k], lambdas[k], samplers[k], &outs[k],
+               &primary[k], primary_found[k]);
+}
+
 template <class Accel>
 void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y, uint32_t s0, uint32_t s1,
                           uint64_t* rays) {
@@ -363,10 +386,8 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
     const int n = int(std::min<uint32_t>(kGroup, s1 - g0));
     camera_group(c, x, y, g0, n, c.cfg.seed, samplers, camera_rays, film_pos, lambdas);
     intersect_camera_rays(accel, camera_rays, n, primary, primary_found);
+    trace_group(c, accel, camera_rays, lambdas, samplers, outs, primary, primary_found, n);
     for (int k = 0; k < n; ++k) {
-      outs[k] = PathOutput{};
-      trace_path(sv, accel, c.cfg.integrator, camera_rays[k], lambdas[k], samplers[k], &outs[k], &primary[k],
-                 primary_found[k]);
       *rays += outs[k].rays;
       if (light_aa) outs[k].rgb_exact = Vec3{0, 0, 0};  // the extra rays below estimate it
     }
@@ -492,7 +513,7 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   TileContext ctx{scene, cfg, FilmView{film.data(), w, h}, gaussian_step_ratio(cfg.filter),
                   aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex,
                   light_aa_flags.empty() ? nullptr : light_aa_flags.data(), min_spread};
-
+  ctx.path_lanes = cfg.integrator.path_lanes && path_lanes_supported(scene.view());
   const TileGrid grid = make_tile_grid(cfg);
   const int ts = grid.size;
   const int threads = cfg.threads > 0 ? cfg.threads : tbb::this_task_arena::max_concurrency();
@@ -538,6 +559,7 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   st.materials = scene.material_count();
   st.layer_layouts = scene.layout_count();
   st.peak_rss_bytes = peak_rss_bytes();
+  st.path_lanes = ctx.path_lanes;
   st.light_aa_pixels = uint64_t(std::count(light_aa_flags.begin(), light_aa_flags.end(), uint8_t(2)));
   return result;
 }

@@ -50,6 +50,7 @@ struct RenderStats {
   double compile_seconds = 0;  // scene compile (BVH, lights) before the render; 0 when reused
   bool scene_reused = false;   // the compiled scene of an earlier render was reused (Scene::compiled)
   uint64_t light_aa_pixels = 0;  // pixels light antialiasing flagged (extra camera rays)
+  bool path_lanes = false;       // the paths ran in vector lanes (integrator/path_lanes.h)
   double samples_per_second() const { return seconds > 0 ? double(samples) / seconds : 0; }
   double rays_per_second() const { return seconds > 0 ? double(rays) / seconds : 0; }
   std::string summary() const;
