@@ -83,6 +83,11 @@ class EmbreeAccel {
   void intersect_stream(const Ray* rays, size_t n, int width, HitRecord* hits, bool* found) const;
   /// Whether each of `n` rays is blocked, `width` at a time, as occluded() ray by ray.
   void occluded_stream(const Ray* rays, size_t n, int width, bool* blocked) const;
+  /// rtcIntersect8 / rtcOccluded8 on a packet the caller has filled in Embree's layout
+  /// (structures of arrays, as the path lanes keep their rays), lanes where valid[k] = −1.
+  /// Embree's geometry alone: for scenes without direct shapes (direct_shape_count() = 0).
+  void intersect8(const int* valid, RTCRayHit8* rh) const;
+  void occluded8(const int* valid, RTCRay8* ray) const;
   bool occluded(const Ray& r) const {
     if (blocked_by_direct(r)) return true;
     RTCIntersectContext ctx;

@@ -1,6 +1,8 @@
 // Which scenes trace_paths_lanes() runs (host code, once per render).
 #include "kauri/integrator/path_lanes.h"
 
+#include <algorithm>
+
 namespace kauri {
 
 namespace {
@@ -28,6 +30,56 @@ bool path_lanes_supported(const SceneView& s) {
   (void)s;
   return false;
 #endif
+}
+
+LaneTriangles LaneTrianglesStore::view() const {
+  LaneTriangles t;
+  t.first = first.data();
+  for (int a = 0; a < 9; ++a) t.p[a] = p[a].data(), t.n[a] = n[a].data();
+  for (int a = 0; a < 3; ++a) t.ng[a] = ng[a].data(), t.dpdu[a] = dpdu[a].data();
+  t.has_n = has_n.data();
+  t.material = material.data();
+  t.light = light.data();
+  return t;
+}
+
+LaneTrianglesStore build_lane_triangles(const SceneView& s) {
+  LaneTrianglesStore t;
+  const InstanceView& root = s.instances[0];
+  const GroupView& g = s.groups[root.group];
+  size_t count = 0;
+  for (int i = 0; i < g.n_shapes; ++i) {
+    t.first.push_back(int32_t(count));
+    count += g.shapes[i].mesh.n_triangles;
+  }
+  if (t.first.empty()) t.first.push_back(0);  // gathers of dead lanes read entry 0
+  for (auto* v : {t.p, t.n}) for (int a = 0; a < 9; ++a) v[a].resize(std::max<size_t>(count, 1));
+  for (auto* v : {t.ng, t.dpdu}) for (int a = 0; a < 3; ++a) v[a].resize(std::max<size_t>(count, 1));
+  t.has_n.assign(std::max<size_t>(count, 1), 0);
+  t.material.assign(std::max<size_t>(count, 1), -1);
+  t.light.assign(std::max<size_t>(count, 1), -1);
+  for (int i = 0; i < g.n_shapes; ++i) {
+    const ShapeView& shape = g.shapes[i];
+    const MeshView& m = shape.mesh;
+    const int first_light = s.emitter_first_light[root.shape_slot_base + i];
+    for (uint32_t prim = 0; prim < m.n_triangles; ++prim) {
+      const size_t k = size_t(t.first[size_t(i)]) + prim;
+      // triangle_hit at barycentrics (0, 0): its normal and ∂p/∂u are the triangle's.
+      SurfaceHit sh;
+      triangle_hit(m, prim, 0, 0, &sh);
+      const uint32_t* idx = m.index + 3 * prim;
+      for (int v = 0; v < 3; ++v)
+        for (int a = 0; a < 3; ++a) {
+          t.p[3 * v + a][k] = m.p[idx[v]][a];
+          if (m.n) t.n[3 * v + a][k] = m.n[idx[v]][a];
+        }
+      for (int a = 0; a < 3; ++a) t.ng[a][k] = sh.ng[a], t.dpdu[a][k] = sh.dpdu[a];
+      t.has_n[k] = m.n ? -1 : 0;
+      t.material[k] = shape.material;
+      t.light[k] = first_light < 0 ? -1 : first_light + int32_t(prim);
+    }
+  }
+  return t;
 }
 
 }  // namespace kauri

@@ -19,6 +19,10 @@
 // time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA build runs trace_path().
 #pragma once
 
+#include <embree3/rtcore.h>
+
+#include <vector>
+
 #include "kauri/core/lanes.h"
 #include "kauri/integrator/path_tracer.h"
 
@@ -32,6 +36,30 @@ inline constexpr int kPathLanes = 8;
 /// Whether every vertex a path of `s` can reach is of the kind trace_paths_lanes() runs
 /// (see above), and the build has the vector types. Host code, once per render.
 bool path_lanes_supported(const SceneView& s);
+
+/// The root group's triangles as flat arrays indexed by triangle number (first[geom] +
+/// prim), so that the lanes' surface hits are gathers from one base: the vertices, and
+/// what triangle_hit() computes per triangle whatever the hit's barycentrics (the unit
+/// geometric normal and ∂p/∂u, by triangle_hit itself, so bit for bit its values), the
+/// material and the triangle's light (−1: none).
+struct LaneTriangles {
+  const int32_t* first = nullptr;   // per root shape
+  const float* p[9] = {};           // p0.x, p0.y, p0.z, p1.x, …, p2.z
+  const float* ng[3] = {};
+  const float* dpdu[3] = {};
+  const float* n[9] = {};           // per-vertex shading normals, as p; 0 where a mesh has none
+  const int32_t* has_n = nullptr;   // −1: the triangle's mesh has shading normals
+  const int32_t* material = nullptr;
+  const int32_t* light = nullptr;
+};
+/// Host storage of a LaneTriangles (build_lane_triangles).
+struct LaneTrianglesStore {
+  std::vector<int32_t> first, has_n, material, light;
+  std::vector<float> p[9], ng[3], dpdu[3], n[9];
+  LaneTriangles view() const;
+};
+/// The triangles of a path_lanes_supported() scene.
+LaneTrianglesStore build_lane_triangles(const SceneView& s);
 
 #if KAURI_PATH_LANES
 namespace path_lanes_detail {
@@ -197,7 +225,7 @@ struct Paths {
 struct Vertices {
   alignas(32) int32_t scatter[W];   // -1: the lane samples light and its BSDF
   alignas(32) int32_t nee[W];       // -1: next-event estimation has a light
-  V3Lanes p, ng, ns, dpdu, wo;
+  V3Lanes p, ng, ns, wo;
   SpectrumLanes albedo;              // w_b · ρ(λ)
   alignas(32) float u_light[2][W], u_rr[W], u_bsdf[2][W];
   alignas(32) float light_pmf[W], light_inv_area[W];
@@ -207,20 +235,53 @@ struct Vertices {
 };
 }  // namespace path_lanes_detail
 
+namespace path_lanes_detail {
+/// Lane k of a vector triple.
+inline Vec3 lane(const V3& v, int k) { return {v.x[k], v.y[k], v.z[k]}; }
+inline F32x8 gather(const float* base, I32x8 i) {
+  const __m256 v = _mm256_i32gather_ps(base, (__m256i)i, 4);
+  F32x8 r;
+  __builtin_memcpy(&r, &v, sizeof r);
+  return r;
+}
+inline I32x8 gather(const int32_t* base, I32x8 i) {
+  return (I32x8)_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), (__m256i)i, 4);
+}
+inline V3 gather3(const float* const base[3], I32x8 i) { return {gather(base[0], i), gather(base[1], i), gather(base[2], i)}; }
+/// offset_ray_origin over lanes (the same steps, axis by axis).
+inline F32x8 offset_axis(F32x8 p, F32x8 n) {
+  constexpr Float kOrigin = 1.0f / 32.0f, kFloatScale = 1.0f / 65536.0f, kIntScale = 256.0f;
+  const I32x8 of_i = __builtin_convertvector(kIntScale * n, I32x8);
+  const I32x8 negative = p < 0;
+  const F32x8 scaled = (F32x8)((I32x8)p + ((of_i ^ negative) - negative));
+  const F32x8 abs_p = (F32x8)((I32x8)p & 0x7fffffff);
+  return abs_p < kOrigin ? p + kFloatScale * n : scaled;
+}
+inline V3 offset_ray_origin(const V3& p, const V3& n) {
+  return {offset_axis(p.x, n.x), offset_axis(p.y, n.y), offset_axis(p.z, n.z)};
+}
+/// The normal on the side of the surface `d` points to (spawn_ray, spawn_ray_to).
+inline V3 side_normal(const V3& ng, const V3& d) { return select(dot(d, ng) < 0, -ng, ng); }
+template <class T>
+inline void put(void* dst, const T& v) {
+  __builtin_memcpy(dst, &v, sizeof v);
+}
+}  // namespace path_lanes_detail
+
 /// trace_path() for the n ≤ kPathLanes paths of a group, in vector lanes: camera rays
 /// `rays`, their closest hits `primary` / `primary_found`, wavelengths, samplers (left at
 /// the dimension trace_path leaves each) and outputs as trace_path's. The scene must be
-/// path_lanes_supported(); `accel` answers intersect_stream() and occluded_stream().
+/// path_lanes_supported(), `tris` its build_lane_triangles(), and `accel` without direct
+/// shapes.
 template <class Accel>
-void trace_paths_lanes(const SceneView& s, const Accel& accel, const IntegratorSettings& cfg, const Ray* rays,
-                       const SampledWavelengths* lambda, Sampler* samplers, PathOutput* outs, const HitRecord* primary,
-                       const bool* primary_found, int n) {
+void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Accel& accel, const IntegratorSettings& cfg,
+                       const Ray* rays, const SampledWavelengths* lambda, Sampler* samplers, PathOutput* outs,
+                       const HitRecord* primary, const bool* primary_found, int n) {
   using namespace path_lanes_detail;
   Paths P;
   Vertices V{};
-  Ray ray[W];
-  HitRecord hit_rec[W];
-  bool found[W];
+  alignas(32) float ray_o[3][W], ray_d[3][W], hit_t[W], hit_u[W], hit_v[W];
+  alignas(32) int32_t hit_geom[W], hit_prim[W];
   for (int k = 0; k < W; ++k) {
     P.alive[k] = k < n ? -1 : 0;
     P.depth[k] = P.diffuse_depth[k] = P.last_segment[k] = 0;
@@ -230,61 +291,94 @@ void trace_paths_lanes(const SceneView& s, const Accel& accel, const IntegratorS
     P.beta.set(k, SampledSpectrum(1));
     P.L.set(k, SampledSpectrum(0));
     P.L_direct.set(k, SampledSpectrum(0));
-    if (k < n) {
-      ray[k] = rays[k];
-      hit_rec[k] = primary[k];
-      found[k] = primary_found[k];
-    }
+    const Ray& r = rays[k < n ? k : 0];
+    for (int a = 0; a < 3; ++a) ray_o[a][k] = r.o[a], ray_d[a][k] = r.d[a];
+    const bool hit = k < n && primary_found[k];
+    hit_geom[k] = hit ? int32_t(primary[k].geom) : -1;
+    hit_prim[k] = hit ? int32_t(primary[k].prim) : 0;
+    hit_t[k] = hit ? primary[k].t : 0;
+    hit_u[k] = hit ? primary[k].u : 0;
+    hit_v[k] = hit ? primary[k].v : 0;
   }
+  V3 o{load(ray_o[0]), load(ray_o[1]), load(ray_o[2])}, d{load(ray_d[0]), load(ray_d[1]), load(ray_d[2])};
+  I32x8 geom = load(hit_geom), prim = load(hit_prim);
+  F32x8 t = load(hit_t), hu = load(hit_u), hv = load(hit_v);
+  I32x8 ray_count{};
+  alignas(32) RTCRayHit8 rh;
+  alignas(32) RTCRay8 shadow;
+  alignas(32) int32_t valid[W];
   for (bool first = true;; first = false) {
-    int live[W], m = 0;
-    for (int k = 0; k < W; ++k)
-      if (P.alive[k]) live[m++] = k;
-    if (m == 0) break;
-    for (int k = 0; k < W; ++k) V.scatter[k] = V.nee[k] = 0;
+    I32x8 alive = load(P.alive);
     if (!first) {
-      Ray r[W];
-      HitRecord h[W];
-      bool f[W];
-      for (int j = 0; j < m; ++j) r[j] = ray[live[j]];
-      accel.intersect_stream(r, size_t(m), W, h, f);
-      for (int j = 0; j < m; ++j) hit_rec[live[j]] = h[j], found[live[j]] = f[j];
+      put(rh.ray.org_x, o.x), put(rh.ray.org_y, o.y), put(rh.ray.org_z, o.z);
+      put(rh.ray.dir_x, d.x), put(rh.ray.dir_y, d.y), put(rh.ray.dir_z, d.z);
+      put(rh.ray.tnear, F32x8{}), put(rh.ray.tfar, splat(kInfinity)), put(rh.ray.time, F32x8{});
+      put(rh.ray.mask, ~I32x8{}), put(rh.ray.id, I32x8{}), put(rh.ray.flags, I32x8{});
+      put(rh.hit.geomID, ~I32x8{}), put(rh.hit.instID[0], ~I32x8{});
+      store(alive, valid);
+      accel.intersect8(valid, &rh);
+      geom = load(reinterpret_cast<const int32_t*>(rh.hit.geomID));
+      prim = load(reinterpret_cast<const int32_t*>(rh.hit.primID));
+      t = load(rh.ray.tfar), hu = load(rh.hit.u), hv = load(rh.hit.v);
     }
-    // Per lane: surface geometry, emission, the light choice, the BSDF's albedo.
-    for (int j = 0; j < m; ++j) {
-      const int k = live[j];
+    ray_count += alive & 1;
+    alive &= geom != -1;  // no environment: an escaped path ends
+    store(alive, P.alive);
+    if (!any(alive)) break;
+
+    // The surface at the hits (triangle_hit), across the lanes.
+    const I32x8 tri = gather(tris.first, alive ? geom : I32x8{}) + (alive ? prim : I32x8{});
+    const F32x8 w = 1 - hu - hv;
+    const V3 p0 = gather3(tris.p, tri), p1 = gather3(tris.p + 3, tri), p2 = gather3(tris.p + 6, tri);
+    const V3 p = p0 * w + p1 * hu + p2 * hv;
+    const V3 ng = gather3(tris.ng, tri);
+    V3 ns = ng;
+    const I32x8 has_n = gather(tris.has_n, tri) & alive;
+    if (any(has_n)) {
+      const V3 nv = gather3(tris.n, tri) * w + gather3(tris.n + 3, tri) * hu + gather3(tris.n + 6, tri) * hv;
+      const F32x8 l2 = dot(nv, nv);
+      const V3 nn = nv * (1 / vsqrt(l2 > 0 ? l2 : splat(1)));
+      ns = select(has_n & (l2 > 0), select(dot(nn, ng) < 0, -nn, nn), ng);
+    }
+    const V3 wo = -d;
+    alignas(32) int32_t material[W], light[W];
+    store(gather(tris.material, tri), material);
+    store(gather(tris.light, tri), light);
+    V.p.store(p), V.ng.store(ng), V.ns.store(ns), V.wo.store(wo);
+
+    // Per lane: emission, the light choice, the BSDF's albedo, the sampler's values.
+    for (int k = 0; k < W; ++k) {
+      V.scatter[k] = V.nee[k] = 0;
+      if (!P.alive[k]) continue;
       PathOutput& out = outs[k];
       Sampler& sampler = samplers[k];
-      ++out.rays;
-      if (!found[k]) {  // no environment: the path ends
-        P.alive[k] = 0;
-        continue;
-      }
-      const SurfaceHit hit = compute_surface_hit(s, ray[k], hit_rec[k]);
-      const Vec3 wo = -ray[k].d;
-      const bool scatters = hit.material >= 0 && P.depth[k] < cfg.max_depth && !P.last_segment[k];
+      const Point3 hp = V.p.get(k);
+      const Normal3 hng = V.ng.get(k), hns = V.ns.get(k);
+      const Vec3 hwo = V.wo.get(k);
+      const int hmat = material[k], hlight = light[k];
+      const bool scatters = hmat >= 0 && P.depth[k] < cfg.max_depth && !P.last_segment[k];
       path_detail::LightChoice lc;
-      if (scatters) lc = path_detail::choose_light(s, cfg, hit.p, hit.ns, sampler.get_2d());
+      if (scatters) lc = path_detail::choose_light(s, cfg, hp, hns, sampler.get_2d());
       if (P.depth[k] == 0) {
         out.hit = true;
-        out.normal = hit.ns;
-        out.depth = hit.t * kauri::dot(ray[k].d, s.camera_forward);
+        out.normal = hns;
+        out.depth = t[k] * kauri::dot(-hwo, s.camera_forward);
       }
-      if (hit.light >= 0 &&
-          !(P.depth[k] == 0 && path_detail::add_area_seen_directly(s.lights[hit.light], hit.ng, wo, &out.rgb_exact))) {
-        const Light& l = s.lights[hit.light];
-        const SampledSpectrum Le = area_light_L(l, hit.ng, wo, lambda[k], &P.emission[k]);
+      if (hlight >= 0 &&
+          !(P.depth[k] == 0 && path_detail::add_area_seen_directly(s.lights[hlight], hng, hwo, &out.rgb_exact))) {
+        const Light& l = s.lights[hlight];
+        const SampledSpectrum Le = area_light_L(l, hng, hwo, lambda[k], &P.emission[k]);
         if (!Le.is_black()) {
           const PathState st = P.state(k);
-          const Float w = path_detail::emitter_mis_weight(s, cfg, st, hit.light, ray[k].d, hit.p, hit.ng);
-          P.add(k, st.beta * Le * w, ContributionKind::Emission);
+          const Float wm = path_detail::emitter_mis_weight(s, cfg, st, hlight, -hwo, hp, hng);
+          P.add(k, st.beta * Le * wm, ContributionKind::Emission);
         }
       }
-      if (hit.material < 0) {  // pure emitter: black surface
+      if (hmat < 0) {  // pure emitter: black surface
         P.alive[k] = 0;
         continue;
       }
-      const MaterialView& mat = s.materials[hit.material];
+      const MaterialView& mat = s.materials[hmat];
       const LobeParams& lobe = s.lobes[mat.first_lobe];
       const Float w_b = clamp(s.node_weights[mat.first_weight].value, 0, 1);
       if (cfg.albedo_aov && !out.albedo_set && (w_b > 0 || P.depth[k] + 1 >= cfg.max_depth)) {
@@ -296,11 +390,6 @@ void trace_paths_lanes(const SceneView& s, const Accel& accel, const IntegratorS
         continue;
       }
       V.scatter[k] = -1;
-      V.p.set(k, hit.p);
-      V.ng.set(k, hit.ng);
-      V.ns.set(k, hit.ns);
-      V.dpdu.set(k, hit.dpdu);
-      V.wo.set(k, wo);
       V.albedo.set(k, lobe.a.sample(lambda[k]) * w_b);
       if (lc.light >= 0 && lc.pmf > 0) {
         const Light& l = s.lights[lc.light];
@@ -317,12 +406,11 @@ void trace_paths_lanes(const SceneView& s, const Accel& accel, const IntegratorS
       V.u_bsdf[0][k] = u.x, V.u_bsdf[1][k] = u.y;
     }
     const I32x8 scatter = load(V.scatter);
-    if (!any(scatter)) continue;  // every path ended at this bounce
+    if (!any(scatter)) break;  // every path ended at this bounce
 
     // Across the lanes: the shading frame and ω_o in it.
-    const V3 p = V.p.load(), ng = V.ng.load(), ns = V.ns.load(), wo = V.wo.load();
     V3 fx, fy;
-    shading_frames(ns, V.dpdu.load(), &fx, &fy);
+    shading_frames(ns, gather3(tris.dpdu, tri), &fx, &fy);
     const V3& fz = ns;
     const V3 wo_l{dot(wo, fx), dot(wo, fy), dot(wo, fz)};
     const F32x8 wo_ng = dot(wo, ng);
@@ -345,10 +433,10 @@ void trace_paths_lanes(const SceneView& s, const Accel& accel, const IntegratorS
       const F32x8 b0 = lower ? h : ux - h, b1 = lower ? uy - h : h;
       const V3 pl = V.light_p0.load() * b0 + V.light_p1.load() * b1 + V.light_p2.load() * (1 - b0 - b1);
       const V3 nl = V.light_n.load();
-      const V3 d = pl - p;
-      const F32x8 d2 = dot(d, d);
-      const V3 wi = d * (1 / vsqrt(d2 > 0 ? d2 : splat(1)));
-      const F32x8 nd = vabs(dot(nl, d));
+      const V3 dl = pl - p;
+      const F32x8 d2 = dot(dl, dl);
+      const V3 wi = dl * (1 / vsqrt(d2 > 0 ? d2 : splat(1)));
+      const F32x8 nd = vabs(dot(nl, dl));
       const F32x8 pdf_l = nd > 0 ? load(V.light_inv_area) * (d2 / (nd > 0 ? nd : splat(1))) * vsqrt(d2) : F32x8{};
       const I32x8 emits = load(V.light_two_sided) | (dot(nl, -wi) > 0);
       const V3 wi_l{dot(wi, fx), dot(wi, fy), dot(wi, fz)};
@@ -356,7 +444,7 @@ void trace_paths_lanes(const SceneView& s, const Accel& accel, const IntegratorS
       const F32x8 pdf_b = (wo_l.z * wi_l.z > 0) ? vabs(wi_l.z) * kInvPi : F32x8{};
       const F32x8 cos_i = vabs(dot(wi, fz));
       const F32x8 p_light = load(V.light_pmf) * pdf_l;
-      const F32x8 w = power_heuristic(p_light, pdf_b) / (p_light > 0 ? p_light : splat(1));
+      const F32x8 wm = power_heuristic(p_light, pdf_b) / (p_light > 0 ? p_light : splat(1));
       I32x8 any_f{}, any_L{};
       F32x8 c[kSpectrumSamples];
       for (int i = 0; i < kSpectrumSamples; ++i) {
@@ -364,25 +452,25 @@ void trace_paths_lanes(const SceneView& s, const Accel& accel, const IntegratorS
         const F32x8 Le = load(V.Le.v[i]);
         any_f |= f != 0;
         any_L |= Le != 0;
-        c[i] = f * Le * w;
+        c[i] = f * Le * wm;
       }
-      const I32x8 shadow = nee & (d2 > 0) & (pdf_l > 0) & emits & any_f & any_L;
-      alignas(32) int32_t shadow_lane[W];
-      store(shadow, shadow_lane);
-      Ray r[W];
-      int lane_of[W], ns_ = 0;
-      for (int k = 0; k < W; ++k)
-        if (shadow_lane[k]) {
-          ++outs[k].rays;
-          lane_of[ns_] = k;
-          r[ns_++] = spawn_ray_to(V.p.get(k), V.ng.get(k), Point3{pl.x[k], pl.y[k], pl.z[k]});
-        }
-      if (ns_ > 0) {
-        bool blocked[W];
-        accel.occluded_stream(r, size_t(ns_), W, blocked);
-        for (int j = 0; j < ns_; ++j) {
-          const int k = lane_of[j];
-          if (blocked[j]) continue;
+      const I32x8 test = nee & (d2 > 0) & (pdf_l > 0) & emits & any_f & any_L;
+      if (any(test)) {
+        ray_count += test & 1;
+        // spawn_ray_to: from the offset origin to just short of the light point.
+        const V3 so = offset_ray_origin(p, side_normal(ng, dl));
+        const V3 sd = pl - so;
+        put(shadow.org_x, so.x), put(shadow.org_y, so.y), put(shadow.org_z, so.z);
+        put(shadow.dir_x, sd.x), put(shadow.dir_y, sd.y), put(shadow.dir_z, sd.z);
+        put(shadow.tnear, F32x8{}), put(shadow.tfar, splat(1 - 1e-4f)), put(shadow.time, F32x8{});
+        put(shadow.mask, ~I32x8{}), put(shadow.id, I32x8{}), put(shadow.flags, I32x8{});
+        store(test, valid);
+        accel.occluded8(valid, &shadow);
+        const I32x8 lit = test & (load(shadow.tfar) >= 0);
+        alignas(32) int32_t lit_lane[W];
+        store(lit, lit_lane);
+        for (int k = 0; k < W; ++k) {
+          if (!lit_lane[k]) continue;
           SampledSpectrum Ld;
           for (int i = 0; i < kSpectrumSamples; ++i) Ld[i] = c[i][k];
           P.add(k, P.beta.get(k) * Ld, ContributionKind::DirectLight);
@@ -406,7 +494,7 @@ void trace_paths_lanes(const SceneView& s, const Accel& accel, const IntegratorS
       beta[i] = load(P.beta.v[i]) * (f * cos_over_pdf);
       beta_max = i == 0 ? beta[i] : vmax(beta_max, beta[i]);
     }
-    I32x8 alive = scatter & any_f;
+    alive = scatter & any_f;
     // record_scatter of a diffuse reflection, then Russian roulette (trace_path).
     const I32x8 depth = load(P.depth) + (alive & 1), diffuse = load(P.diffuse_depth) + (alive & 1);
     const I32x8 last = load(P.last_segment) | (alive & ~((diffuse <= cfg.max_diffuse) &
@@ -430,12 +518,16 @@ void trace_paths_lanes(const SceneView& s, const Accel& accel, const IntegratorS
     store(alive ? pdf : load(P.prev_pdf), P.prev_pdf);
     P.prev_p.store(p);
     P.prev_n.store(ns);
-    for (int k = 0; k < W; ++k)
-      if (P.alive[k]) ray[k] = spawn_ray(V.p.get(k), V.ng.get(k), Vec3{wi.x[k], wi.y[k], wi.z[k]});
+    // spawn_ray: the next ray leaves the offset origin on ω_i's side.
+    o = offset_ray_origin(p, side_normal(ng, wi));
+    d = wi;
   }
+  alignas(32) int32_t ray_lane[W];
+  store(ray_count, ray_lane);
   for (int k = 0; k < n; ++k) {
     outs[k].L = P.L.get(k);
     outs[k].L_direct_first = P.L_direct.get(k);
+    outs[k].rays = uint32_t(ray_lane[k]);
   }
 }
 #endif

@@ -107,7 +107,7 @@ struct TileContext {
   // Light antialiasing: per pixel 0 (not probed yet), 1 (off) or 2 (flagged); null: off.
   uint8_t* light_aa_flags = nullptr;
   Float light_aa_min_spread = 0;  // light_colours_differ's threshold
-  bool path_lanes = false;        // the group's paths in vector lanes (trace_paths_lanes)
+  const LaneTriangles* lane_triangles = nullptr;  // non-null: the group's paths in vector lanes
 };
 
 /// Settings the render loop relies on (the Python layer checks them first, with its names).
@@ -336,16 +336,16 @@ void light_aa_rays(const TileContext& c, const Accel& accel, int x, int y, uint3
 }
 
 /// The paths of a group of n camera samples: in vector lanes where the render allows it
-/// (TileContext::path_lanes, Embree's packets at hand), else one by one.
+/// (TileContext::lane_triangles, Embree's packets at hand), else one by one.
 template <class Accel>
 void trace_group(const TileContext& c, const Accel& accel, const Ray* camera_rays, SampledWavelengths* lambdas,
                  Sampler* samplers, PathOutput* outs, const HitRecord* primary, const bool* primary_found, int n) {
   for (int k = 0; k < n; ++k) outs[k] = PathOutput{};
 #if KAURI_PATH_LANES
   if constexpr (std::is_same_v<Accel, EmbreeAccel>) {
-    if (c.path_lanes) {
-      trace_paths_lanes(c.scene.view(), accel, c.cfg.integrator, camera_rays, lambdas, samplers, outs, primary,
-                        primary_found, n);
+    if (c.lane_triangles) {
+      trace_paths_lanes(c.scene.view(), *c.lane_triangles, accel, c.cfg.integrator, camera_rays, lambdas, samplers,
+                        outs, primary, primary_found, n);
       return;
     }
   }
@@ -513,7 +513,14 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   TileContext ctx{scene, cfg, FilmView{film.data(), w, h}, gaussian_step_ratio(cfg.filter),
                   aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex,
                   light_aa_flags.empty() ? nullptr : light_aa_flags.data(), min_spread};
-  ctx.path_lanes = cfg.integrator.path_lanes && path_lanes_supported(scene.view());
+  // The paths in vector lanes: scenes of their kind without Embree's direct shapes.
+  LaneTrianglesStore lane_triangles;
+  LaneTriangles lane_view;
+  if (cfg.integrator.path_lanes && path_lanes_supported(scene.view()) && scene.accel().direct_shape_count() == 0) {
+    lane_triangles = build_lane_triangles(scene.view());
+    lane_view = lane_triangles.view();
+    ctx.lane_triangles = &lane_view;
+  }
   const TileGrid grid = make_tile_grid(cfg);
   const int ts = grid.size;
   const int threads = cfg.threads > 0 ? cfg.threads : tbb::this_task_arena::max_concurrency();
@@ -559,7 +566,7 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   st.materials = scene.material_count();
   st.layer_layouts = scene.layout_count();
   st.peak_rss_bytes = peak_rss_bytes();
-  st.path_lanes = ctx.path_lanes;
+  st.path_lanes = ctx.lane_triangles != nullptr;
   st.light_aa_pixels = uint64_t(std::count(light_aa_flags.begin(), light_aa_flags.end(), uint8_t(2)));
   return result;
 }
