@@ -64,7 +64,7 @@ def _cmd_render(args) -> int:
                         time_limit=args.time_limit, max_depth=args.max_depth, clamp=clamp,
                         sampler=args.sampler, reconstruction=args.reconstruction, progress=not args.quiet,
                         aovs=not args.no_aovs, light_sampler=args.light_sampler, rr_depth=args.rr_depth,
-                        light_aa=args.light_aa)
+                        light_aa=args.light_aa, path_lanes=not args.no_path_lanes)
     except (SceneError, ValueError) as e:
         print(f"kauri: error: {e}", file=sys.stderr)
         return 2
@@ -101,6 +101,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--light-aa", type=int, default=4, metavar="E",
                    help="light antialiasing: extra camera rays per sample, gathering only the lights "
                         "seen directly, in pixels where a probe finds their edges (default 4; 0 = off)")
+    r.add_argument("--no-path-lanes", action="store_true",
+                   help="trace one path at a time, not a pixel's paths 8 at a time in vector lanes (the "
+                        "lanes run on scenes of Lambert meshes and triangle lights; same image)")
     r.add_argument("--clamp", type=float, default=None, metavar="C",
                    help=f"clamp indirect sample luminance to C; 0 = off (default: off, or {DEMO_CLAMP:g} "
                         "for the demo scene, which tames its glass caustics)")

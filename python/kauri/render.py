@@ -62,7 +62,7 @@ def render(scene: Scene, spp: int = 64, resolution=(640, 480), seed: int = 0, th
            max_glossy: int = 8, max_transmission: int = 12, clamp: float = 0.0, filter: str = "gaussian",
            filter_radius: float = 2.0, filter_sigma: float = 0.5, reconstruction: str = "splat",
            progress: bool = False, aovs: bool = True, light_sampler: str = "tree", rr_depth: int = 4,
-           light_aa: int = 4, path_lanes: bool = False, **extra) -> RenderOutput:
+           light_aa: int = 4, path_lanes: bool = True, **extra) -> RenderOutput:
     """Renders ``scene``; returns a RenderOutput. Stops after ``spp`` samples per pixel or at
     the first pass boundary after ``time_limit`` seconds. Deterministic for a given seed,
     whatever ``threads`` is. The pixel filter is a Gaussian of std-dev ``filter_sigma``

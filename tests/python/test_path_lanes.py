@@ -38,6 +38,6 @@ def test_other_scenes_fall_back(module):
     assert not out.stats["path_lanes"]
 
 
-def test_path_lanes_is_off_by_default():
+def test_path_lanes_are_on_by_default():
     out = kauri.render(peers.to_kauri(cornell.describe()), spp=2, resolution=(8, 8))
-    assert not out.stats["path_lanes"]
+    assert out.stats["path_lanes"]

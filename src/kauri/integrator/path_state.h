@@ -21,8 +21,7 @@ struct IntegratorSettings {
   Float clamp = 0;             // per-sample luminance clamp for indirect light; 0 = off
   bool albedo_aov = true;      // evaluate the first hit's directional albedo (albedo AOV)
   bool light_tree = true;      // NEE picks finite lights by the light tree (else ∝ power)
-  bool path_lanes = false;     // a pixel's paths in vector lanes where the scene allows (path_lanes.h;
-                               // experimental: not yet faster on two threads)
+  bool path_lanes = true;      // a pixel's paths in vector lanes where the scene allows (path_lanes.h)
 };
 
 enum class ContributionKind : uint8_t { Emission, DirectLight };
