@@ -2,7 +2,8 @@
 // are trace_path's, pixel for pixel up to float rounding, with the same ray counts:
 // a box of Lambert walls lit by a one-sided quad light (seen by the camera and through
 // the BSDF samples), walls with per-vertex normals and uvs (the shading frame from ∂p/∂u),
-// a two-sided light, a dark wall (w_b = 0), the bounce budgets and roulette.
+// a two-sided light, a dark wall (w_b = 0), an analytic sphere (EmbreeAccel's direct
+// shapes), the bounce budgets and roulette.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -38,7 +39,7 @@ MeshDesc quad(const std::string& name, std::initializer_list<float> p, int mater
 
 /// A Cornell-like box open towards the camera. `normals_and_uvs`: the back wall gets
 /// bent per-vertex normals and a rotated uv layout; `two_sided`: the light emits both ways.
-void add_box(Scene& s, bool normals_and_uvs, bool two_sided) {
+void add_box(Scene& s, bool normals_and_uvs, bool two_sided, bool sphere = false) {
   const int white = s.add_material(lambert("white", {0.73f, 0.73f, 0.73f}));
   const int red = s.add_material(lambert("red", {0.63f, 0.065f, 0.05f}));
   const int green = s.add_material(lambert("green", {0.14f, 0.45f, 0.091f}));
@@ -54,6 +55,14 @@ void add_box(Scene& s, bool normals_and_uvs, bool two_sided) {
   s.add_mesh(0, quad("left", {-1, 0, 1, -1, 0, -1, -1, 2, -1, -1, 2, 1}, red));
   s.add_mesh(0, quad("right", {1, 0, -1, 1, 0, 1, 1, 2, 1, 1, 2, -1}, green));
   s.add_mesh(0, quad("patch", {0.2f, 0.01f, 0.2f, 0.7f, 0.01f, 0.2f, 0.7f, 0.01f, -0.3f, 0.2f, 0.01f, -0.3f}, dark));
+  if (sphere) {  // an analytic shape: EmbreeAccel tests it itself (a direct shape)
+    SphereDesc sp;
+    sp.name = "ball";
+    sp.center = {0.3f, 0.45f, 0.1f};
+    sp.radius = 0.45f;
+    sp.material = white;
+    s.add_sphere(0, sp);
+  }
   MeshDesc light = quad("light", {-0.25f, 1.99f, -0.25f, 0.25f, 1.99f, -0.25f, 0.25f, 1.99f, 0.25f, -0.25f, 1.99f, 0.25f}, -1);
   light.emissive = true;
   light.emission.rgb = {1, 0.85f, 0.6f};
@@ -80,9 +89,9 @@ RenderResult render_box(const CompiledScene& c, bool lanes, int max_diffuse, int
   return render(c, cfg);
 }
 
-void expect_same_images(bool normals_and_uvs, bool two_sided, int max_diffuse, int rr_depth) {
+void expect_same_images(bool normals_and_uvs, bool two_sided, int max_diffuse, int rr_depth, bool sphere = false) {
   Scene s;
-  add_box(s, normals_and_uvs, two_sided);
+  add_box(s, normals_and_uvs, two_sided, sphere);
   auto c = s.compile(24, 24);
   ASSERT_TRUE(path_lanes_supported(c->view()));
   const RenderResult a = render_box(*c, false, max_diffuse, rr_depth);
@@ -114,8 +123,9 @@ TEST(PathLanes, SameImageAsOnePathAtATime) { expect_same_images(false, false, 6,
 TEST(PathLanes, ShadingNormalsUvFramesAndTwoSidedLight) { expect_same_images(true, true, 6, 4); }
 TEST(PathLanes, RouletteFromTheFirstBounce) { expect_same_images(false, false, 6, 0); }
 TEST(PathLanes, DiffuseBudgetOfOneAndNoRoulette) { expect_same_images(true, false, 1, 9); }
+TEST(PathLanes, AnalyticSphereLaneByLane) { expect_same_images(false, false, 6, 4, true); }
 
-TEST(PathLanes, OnlyLambertMeshScenesRunInLanes) {
+TEST(PathLanes, OnlyLambertSurfacesAndTriangleLightsRunInLanes) {
   auto supported = [](auto&& build) {
     Scene s;
     add_box(s, false, false);
@@ -123,11 +133,18 @@ TEST(PathLanes, OnlyLambertMeshScenesRunInLanes) {
     return path_lanes_supported(s.compile(8, 8)->view());
   };
   EXPECT_TRUE(supported([](Scene&) {}));
-  EXPECT_FALSE(supported([](Scene& s) {  // an analytic sphere
+  EXPECT_TRUE(supported([](Scene& s) {  // an analytic sphere
     SphereDesc sp;
     sp.name = "ball";
     sp.radius = 0.3f;
     sp.material = 0;
+    s.add_sphere(0, sp);
+  }));
+  EXPECT_FALSE(supported([](Scene& s) {  // an emissive sphere: a sphere light
+    SphereDesc sp;
+    sp.name = "lamp";
+    sp.radius = 0.1f;
+    sp.emissive = true;
     s.add_sphere(0, sp);
   }));
   EXPECT_FALSE(supported([](Scene& s) {  // a conductor

@@ -85,7 +85,7 @@ class EmbreeAccel {
   void occluded_stream(const Ray* rays, size_t n, int width, bool* blocked) const;
   /// rtcIntersect8 / rtcOccluded8 on a packet the caller has filled in Embree's layout
   /// (structures of arrays, as the path lanes keep their rays), lanes where valid[k] = −1.
-  /// Embree's geometry alone: for scenes without direct shapes (direct_shape_count() = 0).
+  /// Embree's geometry alone: the caller tests the direct shapes (nearest_direct_shape).
   void intersect8(const int* valid, RTCRayHit8* rh) const;
   void occluded8(const int* valid, RTCRay8* ray) const;
   bool occluded(const Ray& r) const {
@@ -106,6 +106,12 @@ class EmbreeAccel {
   }
   /// Shapes tested directly (tests, statistics).
   size_t direct_shape_count() const { return direct_.size(); }
+  /// For callers that give Embree its packets themselves (intersect8, occluded8): the
+  /// nearest direct shape `r` meets before *tmax (which it shortens), or −1, and its hit
+  /// record; whether a direct shape blocks a shadow ray.
+  int nearest_direct_shape(const Ray& r, Float* tmax) const { return nearest_direct(r, tmax); }
+  HitRecord direct_shape_hit(int direct, Float t) const { return direct_hit(direct, t); }
+  bool blocked_by_direct_shape(const Ray& r) const { return blocked_by_direct(r); }
   Bounds3 bounds() const { return bounds_; }
 
  private:

@@ -13,7 +13,7 @@ bool lane_material(const SceneView& s, int material) {
   const MaterialView& m = s.materials[material];
   const LobeParams* params = s.lobes + m.first_lobe;
   return !m.emissive && material_detail::single_lobe(m, params) && params[0].type == LobeType::Lambert &&
-         params[0].a_texture < 0 && s.node_weights[m.first_weight].attribute < 0;
+         s.node_weights[m.first_weight].attribute < 0;
 }
 }  // namespace
 
@@ -22,7 +22,7 @@ bool path_lanes_supported(const SceneView& s) {
   if (s.n_instances != 1 || !s.instances[0].identity || s.n_infinite_lights != 0) return false;
   const GroupView& g = s.groups[s.instances[0].group];
   for (int i = 0; i < g.n_shapes; ++i)
-    if (g.shapes[i].type != ShapeType::Mesh || !lane_material(s, g.shapes[i].material)) return false;
+    if (!lane_material(s, g.shapes[i].material)) return false;
   for (int i = 0; i < s.n_lights; ++i)
     if (s.lights[i].type != LightType::Triangle || s.lights[i].material >= 0) return false;
   return true;
@@ -37,6 +37,7 @@ LaneTriangles LaneTrianglesStore::view() const {
   t.first = first.data();
   for (int a = 0; a < 9; ++a) t.p[a] = p[a].data(), t.n[a] = n[a].data();
   for (int a = 0; a < 3; ++a) t.ng[a] = ng[a].data(), t.dpdu[a] = dpdu[a].data();
+  for (int a = 0; a < 6; ++a) t.uv[a] = uv[a].data();
   t.has_n = has_n.data();
   t.material = material.data();
   t.light = light.data();
@@ -49,17 +50,20 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s) {
   const GroupView& g = s.groups[root.group];
   size_t count = 0;
   for (int i = 0; i < g.n_shapes; ++i) {
-    t.first.push_back(int32_t(count));
-    count += g.shapes[i].mesh.n_triangles;
+    const bool mesh = g.shapes[i].type == ShapeType::Mesh;
+    t.first.push_back(mesh ? int32_t(count) : -1);  // spheres and disks: hits lane by lane
+    if (mesh) count += g.shapes[i].mesh.n_triangles;
   }
   if (t.first.empty()) t.first.push_back(0);  // gathers of dead lanes read entry 0
   for (auto* v : {t.p, t.n}) for (int a = 0; a < 9; ++a) v[a].resize(std::max<size_t>(count, 1));
   for (auto* v : {t.ng, t.dpdu}) for (int a = 0; a < 3; ++a) v[a].resize(std::max<size_t>(count, 1));
+  for (int a = 0; a < 6; ++a) t.uv[a].resize(std::max<size_t>(count, 1));
   t.has_n.assign(std::max<size_t>(count, 1), 0);
   t.material.assign(std::max<size_t>(count, 1), -1);
   t.light.assign(std::max<size_t>(count, 1), -1);
   for (int i = 0; i < g.n_shapes; ++i) {
     const ShapeView& shape = g.shapes[i];
+    if (shape.type != ShapeType::Mesh) continue;
     const MeshView& m = shape.mesh;
     const int first_light = s.emitter_first_light[root.shape_slot_base + i];
     for (uint32_t prim = 0; prim < m.n_triangles; ++prim) {
@@ -74,6 +78,12 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s) {
           if (m.n) t.n[3 * v + a][k] = m.n[idx[v]][a];
         }
       for (int a = 0; a < 3; ++a) t.ng[a][k] = sh.ng[a], t.dpdu[a][k] = sh.dpdu[a];
+      // The default parameterisation uv = (0, 0), (1, 0), (1, 1) without uvs (triangle_hit).
+      const Vec2 uv_default[3] = {{0, 0}, {1, 0}, {1, 1}};
+      for (int v = 0; v < 3; ++v) {
+        const Vec2 uv = m.uv ? m.uv[idx[v]] : uv_default[v];
+        t.uv[2 * v][k] = uv.x, t.uv[2 * v + 1][k] = uv.y;
+      }
       t.has_n[k] = m.n ? -1 : 0;
       t.material[k] = shape.material;
       t.light[k] = first_light < 0 ? -1 : first_light + int32_t(prim);

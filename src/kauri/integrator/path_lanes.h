@@ -43,11 +43,12 @@ bool path_lanes_supported(const SceneView& s);
 /// geometric normal and ∂p/∂u, by triangle_hit itself, so bit for bit its values), the
 /// material and the triangle's light (−1: none).
 struct LaneTriangles {
-  const int32_t* first = nullptr;   // per root shape
+  const int32_t* first = nullptr;   // per root shape; −1: a sphere or disk
   const float* p[9] = {};           // p0.x, p0.y, p0.z, p1.x, …, p2.z
   const float* ng[3] = {};
   const float* dpdu[3] = {};
   const float* n[9] = {};           // per-vertex shading normals, as p; 0 where a mesh has none
+  const float* uv[6] = {};          // uv0.u, uv0.v, uv1.u, …: the mesh's, or triangle_hit's default
   const int32_t* has_n = nullptr;   // −1: the triangle's mesh has shading normals
   const int32_t* material = nullptr;
   const int32_t* light = nullptr;
@@ -55,7 +56,7 @@ struct LaneTriangles {
 /// Host storage of a LaneTriangles (build_lane_triangles).
 struct LaneTrianglesStore {
   std::vector<int32_t> first, has_n, material, light;
-  std::vector<float> p[9], ng[3], dpdu[3], n[9];
+  std::vector<float> p[9], ng[3], dpdu[3], n[9], uv[6];
   LaneTriangles view() const;
 };
 /// The triangles of a path_lanes_supported() scene.
@@ -225,7 +226,8 @@ struct Paths {
 struct Vertices {
   alignas(32) int32_t scatter[W];   // -1: the lane samples light and its BSDF
   alignas(32) int32_t nee[W];       // -1: next-event estimation has a light
-  V3Lanes p, ng, ns, wo;
+  V3Lanes p, ng, ns, wo, dpdu;
+  alignas(32) float uv[2][W];
   SpectrumLanes albedo;              // w_b · ρ(λ)
   alignas(32) float u_light[2][W], u_rr[W], u_bsdf[2][W];
   alignas(32) float light_pmf[W], light_inv_area[W];
@@ -307,16 +309,32 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   alignas(32) RTCRayHit8 rh;
   alignas(32) RTCRay8 shadow;
   alignas(32) int32_t valid[W];
+  const bool direct_shapes = accel.direct_shape_count() > 0;
   for (bool first = true;; first = false) {
     I32x8 alive = load(P.alive);
     if (!first) {
       put(rh.ray.org_x, o.x), put(rh.ray.org_y, o.y), put(rh.ray.org_z, o.z);
       put(rh.ray.dir_x, d.x), put(rh.ray.dir_y, d.y), put(rh.ray.dir_z, d.z);
-      put(rh.ray.tnear, F32x8{}), put(rh.ray.tfar, splat(kInfinity)), put(rh.ray.time, F32x8{});
+      // The direct shapes first, lane by lane, as EmbreeAccel::intersect: a hit shortens
+      // the ray Embree traverses.
+      alignas(32) float tmax[W];
+      alignas(32) int32_t direct[W];
+      for (int k = 0; k < W; ++k) tmax[k] = kInfinity, direct[k] = -1;
+      if (direct_shapes)
+        for (int k = 0; k < W; ++k)
+          if (P.alive[k]) direct[k] = accel.nearest_direct_shape(Ray{lane(o, k), lane(d, k), kInfinity}, &tmax[k]);
+      put(rh.ray.tnear, F32x8{}), put(rh.ray.tfar, load(tmax)), put(rh.ray.time, F32x8{});
       put(rh.ray.mask, ~I32x8{}), put(rh.ray.id, I32x8{}), put(rh.ray.flags, I32x8{});
       put(rh.hit.geomID, ~I32x8{}), put(rh.hit.instID[0], ~I32x8{});
       store(alive, valid);
       accel.intersect8(valid, &rh);
+      if (direct_shapes)
+        for (int k = 0; k < W; ++k)
+          if (P.alive[k] && rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID && direct[k] >= 0) {
+            const HitRecord h = accel.direct_shape_hit(direct[k], tmax[k]);
+            rh.hit.geomID[k] = h.geom, rh.hit.primID[k] = h.prim, rh.ray.tfar[k] = h.t;
+            rh.hit.u[k] = h.u, rh.hit.v[k] = h.v;
+          }
       geom = load(reinterpret_cast<const int32_t*>(rh.hit.geomID));
       prim = load(reinterpret_cast<const int32_t*>(rh.hit.primID));
       t = load(rh.ray.tfar), hu = load(rh.hit.u), hv = load(rh.hit.v);
@@ -326,13 +344,20 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     store(alive, P.alive);
     if (!any(alive)) break;
 
-    // The surface at the hits (triangle_hit), across the lanes.
-    const I32x8 tri = gather(tris.first, alive ? geom : I32x8{}) + (alive ? prim : I32x8{});
+    // The surface at the hits (triangle_hit), across the lanes; spheres and disks lane by
+    // lane below.
+    const I32x8 first_tri = gather(tris.first, alive ? geom : I32x8{});
+    const I32x8 mesh = alive & (first_tri >= 0);
+    const I32x8 tri = mesh ? first_tri + prim : I32x8{};
     const F32x8 w = 1 - hu - hv;
     const V3 p0 = gather3(tris.p, tri), p1 = gather3(tris.p + 3, tri), p2 = gather3(tris.p + 6, tri);
-    const V3 p = p0 * w + p1 * hu + p2 * hv;
-    const V3 ng = gather3(tris.ng, tri);
+    V3 p = p0 * w + p1 * hu + p2 * hv;
+    V3 ng = gather3(tris.ng, tri);
     V3 ns = ng;
+    V3 dpdu = gather3(tris.dpdu, tri);
+    F32x8 uv[2];
+    for (int a = 0; a < 2; ++a)
+      uv[a] = gather(tris.uv[a], tri) * w + gather(tris.uv[2 + a], tri) * hu + gather(tris.uv[4 + a], tri) * hv;
     const I32x8 has_n = gather(tris.has_n, tri) & alive;
     if (any(has_n)) {
       const V3 nv = gather3(tris.n, tri) * w + gather3(tris.n + 3, tri) * hu + gather3(tris.n + 6, tri) * hv;
@@ -342,9 +367,23 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     }
     const V3 wo = -d;
     alignas(32) int32_t material[W], light[W];
-    store(gather(tris.material, tri), material);
-    store(gather(tris.light, tri), light);
-    V.p.store(p), V.ng.store(ng), V.ns.store(ns), V.wo.store(wo);
+    store(mesh ? gather(tris.material, tri) : ~I32x8{}, material);
+    store(mesh ? gather(tris.light, tri) : ~I32x8{}, light);
+    V.p.store(p), V.ng.store(ng), V.ns.store(ns), V.wo.store(wo), V.dpdu.store(dpdu);
+    store(uv[0], V.uv[0]), store(uv[1], V.uv[1]);
+    const I32x8 analytic = alive & ~mesh;
+    if (any(analytic)) {  // compute_surface_hit lane by lane
+      for (int k = 0; k < W; ++k) {
+        if (!analytic[k]) continue;
+        HitRecord h;
+        h.t = t[k], h.u = hu[k], h.v = hv[k], h.geom = uint32_t(geom[k]), h.prim = uint32_t(prim[k]);
+        const SurfaceHit sh = compute_surface_hit(s, Ray{lane(o, k), lane(d, k), kInfinity}, h);
+        V.p.set(k, sh.p), V.ng.set(k, sh.ng), V.ns.set(k, sh.ns), V.dpdu.set(k, sh.dpdu);
+        V.uv[0][k] = sh.uv.x, V.uv[1][k] = sh.uv.y;
+        material[k] = sh.material, light[k] = sh.light;
+      }
+      p = V.p.load(), ng = V.ng.load(), ns = V.ns.load(), dpdu = V.dpdu.load();
+    }
 
     // Per lane: emission, the light choice, the BSDF's albedo, the sampler's values.
     for (int k = 0; k < W; ++k) {
@@ -381,8 +420,17 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       const MaterialView& mat = s.materials[hmat];
       const LobeParams& lobe = s.lobes[mat.first_lobe];
       const Float w_b = clamp(s.node_weights[mat.first_weight].value, 0, 1);
-      if (cfg.albedo_aov && !out.albedo_set && (w_b > 0 || P.depth[k] + 1 >= cfg.max_depth)) {
-        out.albedo = w_b > 0 ? lobe.a.sample(lambda[k]) * w_b : SampledSpectrum(0);
+      // build_single_lobe's albedo: the texture's at the hit's uv, or the lobe's own.
+      auto albedo = [&] {
+        return (lobe.a_texture < 0 ? lobe.a.sample(lambda[k])
+                                   : s.textures[lobe.a_texture].albedo(Vec2{V.uv[0][k], V.uv[1][k]}, lambda[k])) *
+               w_b;
+      };
+      const bool aov = cfg.albedo_aov && !out.albedo_set && (w_b > 0 || P.depth[k] + 1 >= cfg.max_depth);
+      SampledSpectrum a(0);
+      if (w_b > 0 && (aov || scatters)) a = albedo();
+      if (aov) {
+        out.albedo = a;
         out.albedo_set = true;
       }
       if (!scatters || !(w_b > 0)) {  // a budget is spent, or a BSDF without lobes
@@ -390,7 +438,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         continue;
       }
       V.scatter[k] = -1;
-      V.albedo.set(k, lobe.a.sample(lambda[k]) * w_b);
+      V.albedo.set(k, a);
       if (lc.light >= 0 && lc.pmf > 0) {
         const Light& l = s.lights[lc.light];
         V.nee[k] = -1;
@@ -410,7 +458,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
 
     // Across the lanes: the shading frame and ω_o in it.
     V3 fx, fy;
-    shading_frames(ns, gather3(tris.dpdu, tri), &fx, &fy);
+    shading_frames(ns, dpdu, &fx, &fy);
     const V3& fz = ns;
     const V3 wo_l{dot(wo, fx), dot(wo, fy), dot(wo, fz)};
     const F32x8 wo_ng = dot(wo, ng);
@@ -465,8 +513,11 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         put(shadow.tnear, F32x8{}), put(shadow.tfar, splat(1 - 1e-4f)), put(shadow.time, F32x8{});
         put(shadow.mask, ~I32x8{}), put(shadow.id, I32x8{}), put(shadow.flags, I32x8{});
         store(test, valid);
+        if (direct_shapes)  // as EmbreeAccel::occluded: a direct shape answers first
+          for (int k = 0; k < W; ++k)
+            if (valid[k] && accel.blocked_by_direct_shape(Ray{lane(so, k), lane(sd, k), 1 - 1e-4f})) valid[k] = 0;
         accel.occluded8(valid, &shadow);
-        const I32x8 lit = test & (load(shadow.tfar) >= 0);
+        const I32x8 lit = load(valid) & (load(shadow.tfar) >= 0);
         alignas(32) int32_t lit_lane[W];
         store(lit, lit_lane);
         for (int k = 0; k < W; ++k) {

@@ -513,10 +513,10 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   TileContext ctx{scene, cfg, FilmView{film.data(), w, h}, gaussian_step_ratio(cfg.filter),
                   aov_sums.data(), rays, nan_samples, nan_pixels, nan_mutex,
                   light_aa_flags.empty() ? nullptr : light_aa_flags.data(), min_spread};
-  // The paths in vector lanes: scenes of their kind without Embree's direct shapes.
+  // The paths in vector lanes, where every surface of the scene is of their kind.
   LaneTrianglesStore lane_triangles;
   LaneTriangles lane_view;
-  if (cfg.integrator.path_lanes && path_lanes_supported(scene.view()) && scene.accel().direct_shape_count() == 0) {
+  if (cfg.integrator.path_lanes && path_lanes_supported(scene.view())) {
     lane_triangles = build_lane_triangles(scene.view());
     lane_view = lane_triangles.view();
     ctx.lane_triangles = &lane_view;
