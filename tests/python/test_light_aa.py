@@ -151,7 +151,7 @@ def test_light_aa_is_checked_below_python(bad):
     scene = peers.to_kauri(hangar.describe())
     with pytest.raises(ValueError, match="light_aa"):
         kauri._core.render(scene._core, 4, 4, 1, 0, 1, 0.0, "zsobol", 16, 6, 8, 12, 0.0, "gaussian", 2.0, 0.5,
-                           "splat", False, False, "tree", 4, bad)
+                           "splat", False, False, "tree", 4, bad, True)
 
 
 def test_cli_refuses_a_bad_light_aa(tmp_path):
