@@ -168,5 +168,28 @@ TEST(PathLanes, OnlyLambertSurfacesAndTriangleLightsRunInLanes) {
   }));
 }
 
+// Meshes beyond kPathLanesMaxTriangles take one path at a time (the lanes' tables would
+// double the scene's memory).
+TEST(PathLanes, LargeMeshesTakeOnePathAtATime) {
+  auto grid = [](uint32_t quads) {
+    MeshDesc m;
+    m.name = "grid";
+    m.face_size = 4;
+    for (uint32_t i = 0; i <= quads; ++i) m.positions.insert(m.positions.end(), {float(i), 0, 0, float(i), 0, 1});
+    for (uint32_t i = 0; i < quads; ++i) m.indices.insert(m.indices.end(), {2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1});
+    m.material = 0;
+    return m;
+  };
+  // The box holds 14 triangles (six walls and the light).
+  auto supported = [&](uint32_t quads) {
+    Scene s;
+    add_box(s, false, false);
+    s.add_mesh(0, grid(quads));
+    return path_lanes_supported(s.compile(8, 8)->view());
+  };
+  EXPECT_TRUE(supported(uint32_t(kPathLanesMaxTriangles - 14) / 2));   // exactly the limit
+  EXPECT_FALSE(supported(uint32_t(kPathLanesMaxTriangles - 14) / 2 + 1));
+}
+
 }  // namespace
 }  // namespace kauri

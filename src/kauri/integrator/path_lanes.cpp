@@ -21,8 +21,12 @@ bool path_lanes_supported(const SceneView& s) {
 #if KAURI_PATH_LANES
   if (s.n_instances != 1 || !s.instances[0].identity || s.n_infinite_lights != 0) return false;
   const GroupView& g = s.groups[s.instances[0].group];
-  for (int i = 0; i < g.n_shapes; ++i)
+  size_t triangles = 0;
+  for (int i = 0; i < g.n_shapes; ++i) {
     if (!lane_material(s, g.shapes[i].material)) return false;
+    if (g.shapes[i].type == ShapeType::Mesh) triangles += g.shapes[i].mesh.n_triangles;
+  }
+  if (triangles > kPathLanesMaxTriangles) return false;
   for (int i = 0; i < s.n_lights; ++i)
     if (s.lights[i].type != LightType::Triangle || s.lights[i].material >= 0) return false;
   return true;

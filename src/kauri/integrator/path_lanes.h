@@ -6,21 +6,32 @@
 // (next-event estimation with MIS, Russian roulette, bounce budgets), the same operations
 // up to rounding (a reciprocal square root or a contracted multiply-add may differ in
 // the last bit, and where such a bit decides a comparison two paths part ways; the
-// images agree within noise, tests/cpp/test_path_lanes.cpp). What runs across the lanes
-// is the arithmetic of a bounce: the shading frame, next-event estimation's light point,
-// densities, BSDF value and MIS weight, the cosine-weighted BSDF sample, the throughput,
-// roulette; the Embree queries go as packets of the live lanes' rays (rtcIntersect8,
-// rtcOccluded8). Per lane, one by one: the hit's surface geometry, the light tree's
-// choice, the sampler's values, emission found by a BSDF sample.
+// images agree within noise, tests/cpp/test_path_lanes.cpp). The state stays in
+// structures of arrays from the camera hits to the outputs. Across the lanes: Embree's
+// queries (rtcIntersect8 / rtcOccluded8 packets filled from the lanes' vectors), triangle
+// surface hits (gathers from LaneTriangles), the shading frame, next-event estimation's
+// light point, densities, Lambert value and MIS weight, the cosine-weighted BSDF sample,
+// the throughput, roulette and the next rays' offset origins. Lane by lane: the light
+// tree's choice, the sampler's values, the albedo (a sigmoid or a texture lookup),
+// emission found by a BSDF sample, and the hits on spheres and disks.
 //
-// It covers the scenes whose every vertex is this kind (path_lanes_supported): triangle
-// meshes of the root group, materials of one untextured Lambert lobe, triangle area lights
-// with their own emission, no environment. Other scenes take trace_path() one path at a
-// time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA build runs trace_path().
+// Why the state must live in the lanes: a first version that kept the per-path structures
+// and handed Embree packets of them (rtcIntersect8 on copies, surface hits by
+// compute_surface_hit lane by lane) was 5–9% slower than one path at a time on two
+// threads; moving rays, hits and surfaces into the lanes made the Cornell box 0.76–0.80×
+// the one-path time (docs/benchmarks.md).
+//
+// It covers the scenes whose every vertex is this kind (path_lanes_supported): shapes of
+// the root group (triangle meshes, and spheres and disks lane by lane), materials of one
+// Lambert lobe (its albedo constant, RGB or an image texture; its weight constant),
+// triangle area lights with their own emission, no environment. Other scenes take
+// trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA
+// build runs trace_path().
 #pragma once
 
 #include <embree3/rtcore.h>
 
+#include <cstddef>
 #include <vector>
 
 #include "kauri/core/lanes.h"
@@ -33,8 +44,15 @@ namespace kauri {
 /// Paths a group traces together: one AVX2 vector of floats.
 inline constexpr int kPathLanes = 8;
 
+/// Triangles at most for the lanes: their tables (LaneTriangles) cost ~130 bytes a
+/// triangle besides the scene's own (66 MiB at this count). Larger scenes spend most of
+/// their time in traversal, where the lanes gain least (the bench's million-triangle
+/// scene: 58% of its render is Embree's), and take trace_path().
+inline constexpr size_t kPathLanesMaxTriangles = size_t(1) << 19;
+
 /// Whether every vertex a path of `s` can reach is of the kind trace_paths_lanes() runs
-/// (see above), and the build has the vector types. Host code, once per render.
+/// (see above), at most kPathLanesMaxTriangles, and the build has the vector types. Host
+/// code, once per render.
 bool path_lanes_supported(const SceneView& s);
 
 /// The root group's triangles as flat arrays indexed by triangle number (first[geom] +
