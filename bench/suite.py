@@ -1369,6 +1369,23 @@ def section_memory(cfg, names, renderers, threads, log):
 # ---------------------------------------------------------------------------------------
 # Report
 
+def path_lanes_scenes(names):
+    """The scenes kauri renders with its path lanes (a pixel's paths 8 at a time in vector
+    lanes: every surface of the scene of their kind), from a tiny render of each in a
+    process of its own (this one does not load kauri)."""
+    code = ("import sys; sys.path.insert(0, %r); import kauri, peers, importlib\n"
+            "for n in sys.argv[1:]:\n"
+            "    d = importlib.import_module('scenes.' + n).describe()\n"
+            "    r = kauri.render(peers.to_kauri(d), spp=1, resolution=(4, 4), aovs=False)\n"
+            "    print(n, int(bool(r.stats.get('path_lanes'))))\n") % os.path.dirname(os.path.abspath(__file__))
+    try:
+        out = subprocess.run([sys.executable, "-c", code, *names], capture_output=True, text=True, timeout=600,
+                             check=True).stdout
+    except (subprocess.SubprocessError, OSError):
+        return []
+    return [line.split()[0] for line in out.splitlines() if line.endswith(" 1")]
+
+
 def machine_info(threads, llvm):
     v = versions()
     return {"date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
@@ -1415,7 +1432,8 @@ def build_report(info, mode, argv, sections_md, thread_check, elapsed, done, loa
           f"- CPU: {info['cpu']}, {info['cores']} cores, widest vectors {info.get('vector_isa', '–')}; "
           f"memory {info['memory_gib']} GiB; {info['os']}",
           f"- Dr.Jit's LLVM kernels: {drjit_lanes_md(info.get('drjit_llvm'))}; kauri: "
-          f"`-march={v.get('kauri_march', '–')}`, one path per thread at a time (scalar)",
+          f"`-march={v.get('kauri_march', '–')}`; path lanes (a pixel's paths 8 at a time in AVX2 lanes) on "
+          f"{', '.join(info.get('path_lanes') or []) or 'no scene'}, one path per thread at a time on the others",
           f"- Threads for every renderer: {info['threads']} (kauri: `render(threads=N)`; Mitsuba: "
           f"`drjit.set_thread_count(N)`, after which `drjit.thread_count()` = {info.get('drjit_thread_count', '–')}; "
           f"Cycles: `scene.render.threads = N`)",
@@ -1515,6 +1533,7 @@ def _run(args, argv):
     log = Progress()
     info = machine_info(args.threads, llvm)
     names = args.scene_list
+    info["path_lanes"] = path_lanes_scenes(names)
     log(f"kauri benchmark suite ({mode}): scenes {', '.join(names)}; {args.threads} threads; "
         f"sections {', '.join(args.section_list)}; output {out_dir}")
     global _cycles_python_arg
