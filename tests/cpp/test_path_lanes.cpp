@@ -55,13 +55,20 @@ void add_box(Scene& s, bool normals_and_uvs, bool two_sided, bool sphere = false
   s.add_mesh(0, quad("left", {-1, 0, 1, -1, 0, -1, -1, 2, -1, -1, 2, 1}, red));
   s.add_mesh(0, quad("right", {1, 0, -1, 1, 0, 1, 1, 2, 1, 1, 2, -1}, green));
   s.add_mesh(0, quad("patch", {0.2f, 0.01f, 0.2f, 0.7f, 0.01f, 0.2f, 0.7f, 0.01f, -0.3f, 0.2f, 0.01f, -0.3f}, dark));
-  if (sphere) {  // an analytic shape: EmbreeAccel tests it itself (a direct shape)
+  if (sphere) {  // analytic shapes: EmbreeAccel tests them itself (direct shapes)
     SphereDesc sp;
     sp.name = "ball";
     sp.center = {0.3f, 0.45f, 0.1f};
     sp.radius = 0.45f;
     sp.material = white;
     s.add_sphere(0, sp);
+    DiskDesc dk;  // a tilted disk that shadows part of the box: a direct shape too
+    dk.name = "plate";
+    dk.center = {-0.45f, 1.3f, -0.2f};
+    dk.normal = normalize(Vec3{0.3f, 1, 0.4f});
+    dk.radius = 0.3f;
+    dk.material = red;
+    s.add_disk(0, dk);
   }
   MeshDesc light = quad("light", {-0.25f, 1.99f, -0.25f, 0.25f, 1.99f, -0.25f, 0.25f, 1.99f, 0.25f, -0.25f, 1.99f, 0.25f}, -1);
   light.emissive = true;
@@ -123,7 +130,7 @@ TEST(PathLanes, SameImageAsOnePathAtATime) { expect_same_images(false, false, 6,
 TEST(PathLanes, ShadingNormalsUvFramesAndTwoSidedLight) { expect_same_images(true, true, 6, 4); }
 TEST(PathLanes, RouletteFromTheFirstBounce) { expect_same_images(false, false, 6, 0); }
 TEST(PathLanes, DiffuseBudgetOfOneAndNoRoulette) { expect_same_images(true, false, 1, 9); }
-TEST(PathLanes, AnalyticSphereLaneByLane) { expect_same_images(false, false, 6, 4, true); }
+TEST(PathLanes, AnalyticSphereAndDisk) { expect_same_images(false, false, 6, 4, true); }
 
 TEST(PathLanes, OnlyLambertSurfacesAndTriangleLightsRunInLanes) {
   auto supported = [](auto&& build) {

@@ -104,8 +104,10 @@ class EmbreeAccel {
     rtcOccluded1(root_, &ctx, &ray);
     return ray.tfar < 0;  // Embree sets tfar = −inf on a hit
   }
-  /// Shapes tested directly (tests, statistics).
+  /// Shapes tested directly (tests, statistics), and the shapes themselves (the path
+  /// lanes test them across lanes before each packet).
   size_t direct_shape_count() const { return direct_.size(); }
+  const DirectShape* direct_shapes() const { return direct_.data(); }
   /// For callers that give Embree its packets themselves (intersect8, occluded8): the
   /// nearest direct shape `r` meets before *tmax (which it shortens), or −1, and its hit
   /// record; whether a direct shape blocks a shadow ray.

@@ -11,9 +11,11 @@
 // queries (rtcIntersect8 / rtcOccluded8 packets filled from the lanes' vectors), triangle
 // surface hits (gathers from LaneTriangles), the shading frame, next-event estimation's
 // light point, densities, Lambert value and MIS weight, the cosine-weighted BSDF sample,
-// the throughput, roulette and the next rays' offset origins. Lane by lane: the light
-// tree's choice, the sampler's values, the albedo (a sigmoid or a texture lookup),
-// emission found by a BSDF sample, and the hits on spheres and disks.
+// the throughput, roulette, the next rays' offset origins, and the ray tests of the
+// spheres and disks that EmbreeAccel keeps out of Embree (its direct shapes). Lane by
+// lane, over the live lanes only: the light tree's choice, the sampler's values, the
+// albedo (a sigmoid or a texture lookup), emission found by a BSDF sample, and the
+// surface at a sphere's or disk's hit.
 //
 // Why the state must live in the lanes: a first version that kept the per-path structures
 // and handed Embree packets of them (rtcIntersect8 on copies, surface hits by
@@ -22,7 +24,7 @@
 // the one-path time (docs/benchmarks.md).
 //
 // It covers the scenes whose every vertex is this kind (path_lanes_supported): shapes of
-// the root group (triangle meshes, and spheres and disks lane by lane), materials of one
+// the root group (triangle meshes, spheres and disks), materials of one
 // Lambert lobe (its albedo constant, RGB or an image texture; its weight constant),
 // triangle area lights with their own emission, no environment. Other scenes take
 // trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA
@@ -34,6 +36,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "kauri/accel/embree_accel.h"
 #include "kauri/core/lanes.h"
 #include "kauri/integrator/path_tracer.h"
 
@@ -280,6 +283,50 @@ inline F32x8 offset_axis(F32x8 p, F32x8 n) {
 inline V3 offset_ray_origin(const V3& p, const V3& n) {
   return {offset_axis(p.x, n.x), offset_axis(p.y, n.y), offset_axis(p.z, n.z)};
 }
+inline V3 splat3(Vec3 v) { return {splat(v.x), splat(v.y), splat(v.z)}; }
+inline F32x8 copysign(F32x8 mag, F32x8 sign) {
+  return (F32x8)(((I32x8)mag & 0x7fffffff) | ((I32x8)sign & int32_t(0x80000000u)));
+}
+/// intersect_sphere over lanes, the same steps (Haines et al. 2019): the lanes whose ray
+/// meets `sp` in (0, tmax), and there t.
+inline I32x8 intersect_sphere(const SphereShape& sp, const V3& o, const V3& d, F32x8 tmax, F32x8* t_hit) {
+  const V3 f = o - splat3(sp.center);
+  const F32x8 a = dot(d, d), B = dot(f, d), r2 = splat(sp.radius * sp.radius);
+  const V3 l = f - d * (B / a);
+  const F32x8 disc = a * (r2 - dot(l, l));
+  I32x8 hit = disc >= 0;
+  const F32x8 q = -B - copysign(vsqrt(hit ? disc : F32x8{}), B);
+  hit &= q != 0;  // tangent at the origin
+  const F32x8 t0 = q / a, t1 = (dot(f, f) - r2) / (hit ? q : splat(1));
+  const I32x8 swap = t0 > t1;
+  const F32x8 near = swap ? t1 : t0, far = swap ? t0 : t1;
+  const F32x8 t = near > 0 ? near : far;
+  *t_hit = t;
+  return hit & (t > 0) & (t < tmax);
+}
+/// intersect_disk over lanes, the same steps.
+inline I32x8 intersect_disk(const DiskShape& dk, const V3& o, const V3& d, F32x8 tmax, F32x8* t_hit) {
+  const V3 n = splat3(dk.normal), c = splat3(dk.center);
+  const F32x8 dn = dot(d, n);
+  I32x8 hit = dn != 0;
+  const F32x8 t = dot(c - o, n) / (hit ? dn : splat(1));
+  const V3 off = (o + d * t) - c;
+  *t_hit = t;
+  return hit & (t > 0) & (t < tmax) & ~(dot(off, off) > splat(dk.radius * dk.radius));
+}
+inline I32x8 intersect_direct(const DirectShape& s, const V3& o, const V3& d, F32x8 tmax, F32x8* t_hit) {
+  return s.type == ShapeType::Sphere ? intersect_sphere(s.sphere, o, d, tmax, t_hit)
+                                     : intersect_disk(s.disk, o, d, tmax, t_hit);
+}
+/// The lanes set in `m` (a movemask), lowest first: for per-lane loops that skip dead
+/// lanes without a branch per lane on their pattern.
+inline int mask_bits(I32x8 m) { return _mm256_movemask_ps((__m256)m); }
+inline int next_lane(int* bits) {
+  const int k = __builtin_ctz(unsigned(*bits));
+  *bits &= *bits - 1;
+  return k;
+}
+
 /// The normal on the side of the surface `d` points to (spawn_ray, spawn_ray_to).
 inline V3 side_normal(const V3& ng, const V3& d) { return select(dot(d, ng) < 0, -ng, ng); }
 template <class T>
@@ -327,35 +374,36 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   alignas(32) RTCRayHit8 rh;
   alignas(32) RTCRay8 shadow;
   alignas(32) int32_t valid[W];
-  const bool direct_shapes = accel.direct_shape_count() > 0;
+  const size_t n_direct = accel.direct_shape_count();
+  const DirectShape* direct_shapes = accel.direct_shapes();
   for (bool first = true;; first = false) {
     I32x8 alive = load(P.alive);
     if (!first) {
       put(rh.ray.org_x, o.x), put(rh.ray.org_y, o.y), put(rh.ray.org_z, o.z);
       put(rh.ray.dir_x, d.x), put(rh.ray.dir_y, d.y), put(rh.ray.dir_z, d.z);
-      // The direct shapes first, lane by lane, as EmbreeAccel::intersect: a hit shortens
-      // the ray Embree traverses.
-      alignas(32) float tmax[W];
-      alignas(32) int32_t direct[W];
-      for (int k = 0; k < W; ++k) tmax[k] = kInfinity, direct[k] = -1;
-      if (direct_shapes)
-        for (int k = 0; k < W; ++k)
-          if (P.alive[k]) direct[k] = accel.nearest_direct_shape(Ray{lane(o, k), lane(d, k), kInfinity}, &tmax[k]);
-      put(rh.ray.tnear, F32x8{}), put(rh.ray.tfar, load(tmax)), put(rh.ray.time, F32x8{});
+      // The direct shapes first, across the lanes, as EmbreeAccel::intersect: a hit
+      // shortens the ray Embree traverses. `direct_geom`: the nearest one's geometry id.
+      F32x8 tmax = splat(kInfinity);
+      I32x8 direct_geom = ~I32x8{};
+      for (size_t i = 0; i < n_direct; ++i) {
+        F32x8 ti;
+        const I32x8 h = alive & intersect_direct(direct_shapes[i], o, d, tmax, &ti);
+        tmax = h ? ti : tmax;
+        direct_geom = h ? I32x8{} + int32_t(direct_shapes[i].geom) : direct_geom;
+      }
+      put(rh.ray.tnear, F32x8{}), put(rh.ray.tfar, tmax), put(rh.ray.time, F32x8{});
       put(rh.ray.mask, ~I32x8{}), put(rh.ray.id, I32x8{}), put(rh.ray.flags, I32x8{});
       put(rh.hit.geomID, ~I32x8{}), put(rh.hit.instID[0], ~I32x8{});
       store(alive, valid);
       accel.intersect8(valid, &rh);
-      if (direct_shapes)
-        for (int k = 0; k < W; ++k)
-          if (P.alive[k] && rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID && direct[k] >= 0) {
-            const HitRecord h = accel.direct_shape_hit(direct[k], tmax[k]);
-            rh.hit.geomID[k] = h.geom, rh.hit.primID[k] = h.prim, rh.ray.tfar[k] = h.t;
-            rh.hit.u[k] = h.u, rh.hit.v[k] = h.v;
-          }
       geom = load(reinterpret_cast<const int32_t*>(rh.hit.geomID));
       prim = load(reinterpret_cast<const int32_t*>(rh.hit.primID));
       t = load(rh.ray.tfar), hu = load(rh.hit.u), hv = load(rh.hit.v);
+      if (n_direct) {  // Embree missed, a direct shape was met: its hit (direct_shape_hit)
+        const I32x8 take = alive & (geom == -1) & (direct_geom >= 0);
+        geom = take ? direct_geom : geom, prim = take ? I32x8{} : prim;
+        t = take ? tmax : t, hu = take ? F32x8{} : hu, hv = take ? F32x8{} : hv;
+      }
     }
     ray_count += alive & 1;
     alive &= geom != -1;  // no environment: an escaped path ends
@@ -391,8 +439,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     store(uv[0], V.uv[0]), store(uv[1], V.uv[1]);
     const I32x8 analytic = alive & ~mesh;
     if (any(analytic)) {  // compute_surface_hit lane by lane
-      for (int k = 0; k < W; ++k) {
-        if (!analytic[k]) continue;
+      for (int bits = mask_bits(analytic); bits;) {
+        const int k = next_lane(&bits);
         HitRecord h;
         h.t = t[k], h.u = hu[k], h.v = hv[k], h.geom = uint32_t(geom[k]), h.prim = uint32_t(prim[k]);
         const SurfaceHit sh = compute_surface_hit(s, Ray{lane(o, k), lane(d, k), kInfinity}, h);
@@ -404,9 +452,9 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     }
 
     // Per lane: emission, the light choice, the BSDF's albedo, the sampler's values.
-    for (int k = 0; k < W; ++k) {
-      V.scatter[k] = V.nee[k] = 0;
-      if (!P.alive[k]) continue;
+    store(I32x8{}, V.scatter), store(I32x8{}, V.nee);
+    for (int bits = mask_bits(alive); bits;) {
+      const int k = next_lane(&bits);
       PathOutput& out = outs[k];
       Sampler& sampler = samplers[k];
       const Point3 hp = V.p.get(k);
@@ -530,16 +578,17 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         put(shadow.dir_x, sd.x), put(shadow.dir_y, sd.y), put(shadow.dir_z, sd.z);
         put(shadow.tnear, F32x8{}), put(shadow.tfar, splat(1 - 1e-4f)), put(shadow.time, F32x8{});
         put(shadow.mask, ~I32x8{}), put(shadow.id, I32x8{}), put(shadow.flags, I32x8{});
-        store(test, valid);
-        if (direct_shapes)  // as EmbreeAccel::occluded: a direct shape answers first
-          for (int k = 0; k < W; ++k)
-            if (valid[k] && accel.blocked_by_direct_shape(Ray{lane(so, k), lane(sd, k), 1 - 1e-4f})) valid[k] = 0;
+        // As EmbreeAccel::occluded: a direct shape answers first.
+        I32x8 unblocked = test;
+        for (size_t i = 0; i < n_direct; ++i) {
+          F32x8 ti;
+          unblocked &= ~intersect_direct(direct_shapes[i], so, sd, splat(1 - 1e-4f), &ti);
+        }
+        store(unblocked, valid);
         accel.occluded8(valid, &shadow);
         const I32x8 lit = load(valid) & (load(shadow.tfar) >= 0);
-        alignas(32) int32_t lit_lane[W];
-        store(lit, lit_lane);
-        for (int k = 0; k < W; ++k) {
-          if (!lit_lane[k]) continue;
+        for (int bits = mask_bits(lit); bits;) {
+          const int k = next_lane(&bits);
           SampledSpectrum Ld;
           for (int i = 0; i < kSpectrumSamples; ++i) Ld[i] = c[i][k];
           P.add(k, P.beta.get(k) * Ld, ContributionKind::DirectLight);
