@@ -45,6 +45,7 @@ LaneTriangles LaneTrianglesStore::view() const {
   t.has_n = has_n.data();
   t.material = material.data();
   t.light = light.data();
+  t.reads_uv = reads_uv;
   return t;
 }
 
@@ -65,10 +66,12 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s) {
   t.has_n.assign(std::max<size_t>(count, 1), 0);
   t.material.assign(std::max<size_t>(count, 1), -1);
   t.light.assign(std::max<size_t>(count, 1), -1);
+  t.reads_uv = false;
   for (int i = 0; i < g.n_shapes; ++i) {
     const ShapeView& shape = g.shapes[i];
     if (shape.type != ShapeType::Mesh) continue;
     const MeshView& m = shape.mesh;
+    t.reads_uv |= shape.material >= 0 && s.materials[shape.material].reads_uv;
     const int first_light = s.emitter_first_light[root.shape_slot_base + i];
     for (uint32_t prim = 0; prim < m.n_triangles; ++prim) {
       const size_t k = size_t(t.first[size_t(i)]) + prim;

@@ -73,11 +73,13 @@ struct LaneTriangles {
   const int32_t* has_n = nullptr;   // −1: the triangle's mesh has shading normals
   const int32_t* material = nullptr;
   const int32_t* light = nullptr;
+  bool reads_uv = true;             // false: no mesh's material reads uv (no texture lookups)
 };
 /// Host storage of a LaneTriangles (build_lane_triangles).
 struct LaneTrianglesStore {
   std::vector<int32_t> first, has_n, material, light;
   std::vector<float> p[9], ng[3], dpdu[3], n[9], uv[6];
+  bool reads_uv = true;
   LaneTriangles view() const;
 };
 /// The triangles of a path_lanes_supported() scene.
@@ -421,9 +423,10 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     V3 ng = gather3(tris.ng, tri);
     V3 ns = ng;
     V3 dpdu = gather3(tris.dpdu, tri);
-    F32x8 uv[2];
-    for (int a = 0; a < 2; ++a)
-      uv[a] = gather(tris.uv[a], tri) * w + gather(tris.uv[2 + a], tri) * hu + gather(tris.uv[4 + a], tri) * hv;
+    F32x8 uv[2] = {};
+    if (tris.reads_uv)  // six gathers that scenes without textures skip
+      for (int a = 0; a < 2; ++a)
+        uv[a] = gather(tris.uv[a], tri) * w + gather(tris.uv[2 + a], tri) * hu + gather(tris.uv[4 + a], tri) * hv;
     const I32x8 has_n = gather(tris.has_n, tri) & alive;
     if (any(has_n)) {
       const V3 nv = gather3(tris.n, tri) * w + gather3(tris.n + 3, tri) * hu + gather3(tris.n + 6, tri) * hv;
