@@ -19,7 +19,7 @@ bool lane_material(const SceneView& s, int material) {
 
 bool path_lanes_supported(const SceneView& s) {
 #if KAURI_PATH_LANES
-  if (s.n_instances != 1 || !s.instances[0].identity || s.n_infinite_lights != 0) return false;
+  if (s.n_instances != 1 || !s.instances[0].identity) return false;
   const GroupView& g = s.groups[s.instances[0].group];
   size_t triangles = 0;
   for (int i = 0; i < g.n_shapes; ++i) {
@@ -27,8 +27,12 @@ bool path_lanes_supported(const SceneView& s) {
     if (g.shapes[i].type == ShapeType::Mesh) triangles += g.shapes[i].mesh.n_triangles;
   }
   if (triangles > kPathLanesMaxTriangles) return false;
-  for (int i = 0; i < s.n_lights; ++i)
-    if (s.lights[i].type != LightType::Triangle || s.lights[i].material >= 0) return false;
+  for (int i = 0; i < s.n_lights; ++i) {
+    const Light& l = s.lights[i];
+    const bool triangle = l.type == LightType::Triangle && l.material < 0;
+    const bool infinite = l.type == LightType::EnvConstant || l.type == LightType::EnvMap || l.type == LightType::Distant;
+    if (!triangle && !infinite) return false;
+  }
   return true;
 #else
   (void)s;

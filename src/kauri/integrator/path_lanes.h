@@ -14,8 +14,10 @@
 // the throughput, roulette, the next rays' offset origins, and the ray tests of the
 // spheres and disks that EmbreeAccel keeps out of Embree (its direct shapes). Lane by
 // lane, over the live lanes only: the light tree's choice, the sampler's values, the
-// albedo (a sigmoid or a texture lookup), emission found by a BSDF sample, and the
-// surface at a sphere's or disk's hit.
+// albedo (a sigmoid or a texture lookup), emission found by a BSDF sample, the surface at
+// a sphere's or disk's hit, an infinite light's sample (its direction, density and
+// radiance by sample_light; its MIS weight and shadow ray across the lanes) and the
+// environment an escaped path sees.
 //
 // Why the state must live in the lanes: a first version that kept the per-path structures
 // and handed Embree packets of them (rtcIntersect8 on copies, surface hits by
@@ -26,7 +28,8 @@
 // It covers the scenes whose every vertex is this kind (path_lanes_supported): shapes of
 // the root group (triangle meshes, spheres and disks), materials of one
 // Lambert lobe (its albedo constant, RGB or an image texture; its weight constant),
-// triangle area lights with their own emission, no environment. Other scenes take
+// triangle area lights with their own emission, and infinite lights (constant and
+// image environments, distant lights). Other scenes take
 // trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA
 // build runs trace_path().
 #pragma once
@@ -256,6 +259,11 @@ struct Vertices {
   alignas(32) float light_pmf[W], light_inv_area[W];
   alignas(32) int32_t light_two_sided[W];
   V3Lanes light_p0, light_p1, light_p2, light_n;
+  // An infinite light's sample (sample_light, lane by lane): −1 in light_dir, its direction
+  // and solid-angle density; light_delta −1 for a distant light.
+  alignas(32) int32_t light_dir[W], light_delta[W];
+  V3Lanes light_wi;
+  alignas(32) float light_pdf[W];
   SpectrumLanes Le;
 };
 }  // namespace path_lanes_detail
@@ -408,7 +416,24 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       }
     }
     ray_count += alive & 1;
-    alive &= geom != -1;  // no environment: an escaped path ends
+    const I32x8 escaped = alive & (geom == -1);
+    if (s.n_infinite_lights > 0 && any(escaped))  // the environment, lane by lane (trace_path)
+      for (int bits = mask_bits(escaped); bits;) {
+        const int k = next_lane(&bits);
+        const Vec3 dir_k = lane(d, k);
+        const PathState st = P.state(k);
+        for (int i = 0; i < s.n_infinite_lights; ++i) {
+          const int li = s.infinite_lights[i];
+          if (st.depth == 0 && path_detail::add_seen_directly(s.lights[li], dir_k, &outs[k].rgb_exact)) continue;
+          Float pdf_light = 0;
+          const SampledSpectrum Le = infinite_light_Le_pdf(s.lights[li], dir_k, lambda[k], kNextEventDensity,
+                                                           path_detail::emission_needs_mis(st) ? &pdf_light : nullptr);
+          if (Le.is_black()) continue;
+          const Float wm = path_detail::emitter_mis_weight_given_pdf(s, cfg, st, li, pdf_light);
+          P.add(k, st.beta * Le * wm, ContributionKind::Emission);
+        }
+      }
+    alive &= ~escaped;  // an escaped path ends
     store(alive, P.alive);
     if (!any(alive)) break;
 
@@ -511,12 +536,22 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       if (lc.light >= 0 && lc.pmf > 0) {
         const Light& l = s.lights[lc.light];
         V.nee[k] = -1;
-        V.u_light[0][k] = lc.u.x, V.u_light[1][k] = lc.u.y;
         V.light_pmf[k] = lc.pmf;
-        V.light_inv_area[k] = 1 / l.area;
-        V.light_two_sided[k] = l.two_sided ? -1 : 0;
-        V.light_p0.set(k, l.p0), V.light_p1.set(k, l.p1), V.light_p2.set(k, l.p2), V.light_n.set(k, l.n);
-        V.Le.set(k, light_emission(l, lambda[k], &P.emission[k]));
+        if (l.type == LightType::Triangle) {  // its point across the lanes below
+          V.light_dir[k] = V.light_delta[k] = 0;
+          V.u_light[0][k] = lc.u.x, V.u_light[1][k] = lc.u.y;
+          V.light_inv_area[k] = 1 / l.area;
+          V.light_two_sided[k] = l.two_sided ? -1 : 0;
+          V.light_p0.set(k, l.p0), V.light_p1.set(k, l.p1), V.light_p2.set(k, l.p2), V.light_n.set(k, l.n);
+          V.Le.set(k, light_emission(l, lambda[k], &P.emission[k]));
+        } else {  // an infinite light (path_lanes_supported): a direction, sampled here
+          const LightSample ls = sample_light(l, hp, lc.u, lambda[k], kNextEventDensity, &P.emission[k]);
+          V.light_dir[k] = -1;
+          V.light_delta[k] = ls.delta ? -1 : 0;
+          V.light_wi.set(k, ls.wi);
+          V.light_pdf[k] = ls.pdf;
+          V.Le.set(k, ls.L);
+        }
       }
       const Vec2 u_lobe_rr = sampler.get_2d(), u = sampler.get_2d();
       V.u_rr[k] = u_lobe_rr.y;
@@ -541,9 +576,11 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       return same & ~(same ^ geo) & (wo_l.z != 0);
     };
 
-    // Next-event estimation (sample_direct): a point on the chosen triangle.
+    // Next-event estimation (sample_direct): a point on the chosen triangle, or the
+    // direction an infinite light's sample took.
     const I32x8 nee = load(V.nee);
     if (any(nee)) {
+      const I32x8 dir = nee & load(V.light_dir);
       const F32x8 ux = load(V.u_light[0]), uy = load(V.u_light[1]);
       const I32x8 lower = ux < uy;
       const F32x8 h = (lower ? ux : uy) / 2;
@@ -552,16 +589,19 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       const V3 nl = V.light_n.load();
       const V3 dl = pl - p;
       const F32x8 d2 = dot(dl, dl);
-      const V3 wi = dl * (1 / vsqrt(d2 > 0 ? d2 : splat(1)));
+      const V3 wi_tri = dl * (1 / vsqrt(d2 > 0 ? d2 : splat(1)));
       const F32x8 nd = vabs(dot(nl, dl));
-      const F32x8 pdf_l = nd > 0 ? load(V.light_inv_area) * (d2 / (nd > 0 ? nd : splat(1))) * vsqrt(d2) : F32x8{};
-      const I32x8 emits = load(V.light_two_sided) | (dot(nl, -wi) > 0);
+      const F32x8 pdf_tri = nd > 0 ? load(V.light_inv_area) * (d2 / (nd > 0 ? nd : splat(1))) * vsqrt(d2) : F32x8{};
+      const V3 wi = select(dir, V.light_wi.load(), wi_tri);
+      const F32x8 pdf_l = dir ? load(V.light_pdf) : pdf_tri;
+      const I32x8 emits = dir | load(V.light_two_sided) | (dot(nl, -wi) > 0);
       const V3 wi_l{dot(wi, fx), dot(wi, fy), dot(wi, fz)};
       const I32x8 reflects = lambert_mask(wi, wi_l);
       const F32x8 pdf_b = (wo_l.z * wi_l.z > 0) ? vabs(wi_l.z) * kInvPi : F32x8{};
       const F32x8 cos_i = vabs(dot(wi, fz));
       const F32x8 p_light = load(V.light_pmf) * pdf_l;
-      const F32x8 wm = power_heuristic(p_light, pdf_b) / (p_light > 0 ? p_light : splat(1));
+      const F32x8 w_mis = (dir & load(V.light_delta)) ? splat(1) : power_heuristic(p_light, pdf_b);
+      const F32x8 wm = w_mis / (p_light > 0 ? p_light : splat(1));
       I32x8 any_f{}, any_L{};
       F32x8 c[kSpectrumSamples];
       for (int i = 0; i < kSpectrumSamples; ++i) {
@@ -571,21 +611,23 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         any_L |= Le != 0;
         c[i] = f * Le * wm;
       }
-      const I32x8 test = nee & (d2 > 0) & (pdf_l > 0) & emits & any_f & any_L;
+      const I32x8 test = nee & (dir | (d2 > 0)) & (pdf_l > 0) & emits & any_f & any_L;
       if (any(test)) {
         ray_count += test & 1;
-        // spawn_ray_to: from the offset origin to just short of the light point.
-        const V3 so = offset_ray_origin(p, side_normal(ng, dl));
-        const V3 sd = pl - so;
+        // spawn_ray_to: from the offset origin to just short of the light point; spawn_ray
+        // towards an infinite light.
+        const V3 so = offset_ray_origin(p, side_normal(ng, select(dir, wi, dl)));
+        const V3 sd = select(dir, wi, pl - so);
+        const F32x8 stmax = dir ? splat(kInfinity) : splat(1 - 1e-4f);
         put(shadow.org_x, so.x), put(shadow.org_y, so.y), put(shadow.org_z, so.z);
         put(shadow.dir_x, sd.x), put(shadow.dir_y, sd.y), put(shadow.dir_z, sd.z);
-        put(shadow.tnear, F32x8{}), put(shadow.tfar, splat(1 - 1e-4f)), put(shadow.time, F32x8{});
+        put(shadow.tnear, F32x8{}), put(shadow.tfar, stmax), put(shadow.time, F32x8{});
         put(shadow.mask, ~I32x8{}), put(shadow.id, I32x8{}), put(shadow.flags, I32x8{});
         // As EmbreeAccel::occluded: a direct shape answers first.
         I32x8 unblocked = test;
         for (size_t i = 0; i < n_direct; ++i) {
           F32x8 ti;
-          unblocked &= ~intersect_direct(direct_shapes[i], so, sd, splat(1 - 1e-4f), &ti);
+          unblocked &= ~intersect_direct(direct_shapes[i], so, sd, stmax, &ti);
         }
         store(unblocked, valid);
         accel.occluded8(valid, &shadow);
