@@ -104,16 +104,12 @@ class EmbreeAccel {
     rtcOccluded1(root_, &ctx, &ray);
     return ray.tfar < 0;  // Embree sets tfar = −inf on a hit
   }
-  /// Shapes tested directly (tests, statistics), and the shapes themselves (the path
-  /// lanes test them across lanes before each packet).
+  /// Shapes tested directly (tests, statistics), and the shapes themselves: callers that
+  /// give Embree its packets themselves (intersect8, occluded8; the path lanes) test them
+  /// first, as intersect() and occluded() do, and report a hit on one as direct_hit does
+  /// (its geometry id, primitive 0, u = v = 0).
   size_t direct_shape_count() const { return direct_.size(); }
   const DirectShape* direct_shapes() const { return direct_.data(); }
-  /// For callers that give Embree its packets themselves (intersect8, occluded8): the
-  /// nearest direct shape `r` meets before *tmax (which it shortens), or −1, and its hit
-  /// record; whether a direct shape blocks a shadow ray.
-  int nearest_direct_shape(const Ray& r, Float* tmax) const { return nearest_direct(r, tmax); }
-  HitRecord direct_shape_hit(int direct, Float t) const { return direct_hit(direct, t); }
-  bool blocked_by_direct_shape(const Ray& r) const { return blocked_by_direct(r); }
   Bounds3 bounds() const { return bounds_; }
 
  private:

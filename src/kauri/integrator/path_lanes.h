@@ -409,7 +409,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       geom = load(reinterpret_cast<const int32_t*>(rh.hit.geomID));
       prim = load(reinterpret_cast<const int32_t*>(rh.hit.primID));
       t = load(rh.ray.tfar), hu = load(rh.hit.u), hv = load(rh.hit.v);
-      if (n_direct) {  // Embree missed, a direct shape was met: its hit (direct_shape_hit)
+      if (n_direct) {  // Embree missed, a direct shape was met: its hit (EmbreeAccel::direct_hit)
         const I32x8 take = alive & (geom == -1) & (direct_geom >= 0);
         geom = take ? direct_geom : geom, prim = take ? I32x8{} : prim;
         t = take ? tmax : t, hu = take ? F32x8{} : hu, hv = take ? F32x8{} : hv;
