@@ -420,18 +420,9 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     if (s.n_infinite_lights > 0 && any(escaped))  // the environment, lane by lane (trace_path)
       for (int bits = mask_bits(escaped); bits;) {
         const int k = next_lane(&bits);
-        const Vec3 dir_k = lane(d, k);
-        const PathState st = P.state(k);
-        for (int i = 0; i < s.n_infinite_lights; ++i) {
-          const int li = s.infinite_lights[i];
-          if (st.depth == 0 && path_detail::add_seen_directly(s.lights[li], dir_k, &outs[k].rgb_exact)) continue;
-          Float pdf_light = 0;
-          const SampledSpectrum Le = infinite_light_Le_pdf(s.lights[li], dir_k, lambda[k], kNextEventDensity,
-                                                           path_detail::emission_needs_mis(st) ? &pdf_light : nullptr);
-          if (Le.is_black()) continue;
-          const Float wm = path_detail::emitter_mis_weight_given_pdf(s, cfg, st, li, pdf_light);
-          P.add(k, st.beta * Le * wm, ContributionKind::Emission);
-        }
+        const SampledSpectrum L =
+            path_detail::escaped_radiance(s, cfg, P.state(k), lane(d, k), lambda[k], &outs[k].rgb_exact);
+        P.add(k, L, ContributionKind::Emission);
       }
     alive &= ~escaped;  // an escaped path ends
     store(alive, P.alive);

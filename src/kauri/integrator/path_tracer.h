@@ -115,6 +115,26 @@ KAURI_HOST_DEVICE inline bool add_seen_directly(const Light& l, Vec3 d, Vec3* rg
   }
 }
 
+/// What a path of state `st` that escapes along `d` receives from the infinite lights:
+/// β · Le · w, MIS-weighted against next-event estimation. A camera ray (depth 0) gives
+/// the lights add_seen_directly takes to *rgb_exact instead. Shared by trace_path and the
+/// path lanes (one escaped lane at a time).
+KAURI_HOST_DEVICE inline SampledSpectrum escaped_radiance(const SceneView& s, const IntegratorSettings& cfg,
+                                                         const PathState& st, Vec3 d, const SampledWavelengths& lambda,
+                                                         Vec3* rgb_exact) {
+  SampledSpectrum L(0);
+  for (int i = 0; i < s.n_infinite_lights; ++i) {
+    const int li = s.infinite_lights[i];
+    if (st.depth == 0 && add_seen_directly(s.lights[li], d, rgb_exact)) continue;
+    Float pdf_light = 0;
+    Float* pdf = emission_needs_mis(st) ? &pdf_light : nullptr;
+    const SampledSpectrum Le = infinite_light_Le_pdf(s.lights[li], d, lambda, kNextEventDensity, pdf);
+    if (Le.is_black()) continue;
+    L += st.beta * Le * emitter_mis_weight_given_pdf(s, cfg, st, li, pdf_light);
+  }
+  return L;
+}
+
 /// x^⅓ for x in (0, 1), to ~2e-6 relative, in (0, 1]: a first guess from the exponent bits
 /// (the exponent divided by 3), then two Newton steps y ← (2y + x / y²) / 3. Roulette needs
 /// no exact root: any survival probability p in (0, 1] that both the test and the 1/p
@@ -182,16 +202,9 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
       found = accel.intersect(ray, &h);
     }
     if (!found) {
-      for (int i = 0; i < s.n_infinite_lights; ++i) {
-        int li = s.infinite_lights[i];
-        if (st.depth == 0 && path_detail::add_seen_directly(s.lights[li], ray.d, &out->rgb_exact)) continue;
-        Float pdf_light = 0;
-        SampledSpectrum Le = infinite_light_Le_pdf(s.lights[li], ray.d, lambda, kNextEventDensity,
-                                                   path_detail::emission_needs_mis(st) ? &pdf_light : nullptr);
-        if (Le.is_black()) continue;
-        Float w = path_detail::emitter_mis_weight_given_pdf(s, cfg, st, li, pdf_light);
-        out->add(st.beta * Le * w, st, ContributionKind::Emission);
-      }
+      if (s.n_infinite_lights > 0)
+        out->add(path_detail::escaped_radiance(s, cfg, st, ray.d, lambda, &out->rgb_exact), st,
+                 ContributionKind::Emission);
       break;
     }
     SurfaceHit hit = compute_surface_hit(s, ray, h);
