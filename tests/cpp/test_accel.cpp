@@ -1,4 +1,5 @@
-// The CPU accelerator: analytic spheres and disks of the root group tested directly
+// The CPU accelerator: quad-pair meshes given to Embree as quads must answer as their
+// triangles; analytic spheres and disks of the root group tested directly
 // (EmbreeAccel::kMaxDirectShapes) must answer queries as Embree's own sphere and disk
 // primitives do: the same shape, the same distance to float precision, the same
 // occlusion, including rays that leave a shape's surface (self-intersection) and rays
@@ -285,6 +286,87 @@ TEST(EmbreeAccel, ManyAnalyticShapesStayInEmbree) {
   HitRecord h;
   ASSERT_TRUE(accel.intersect(Ray{{-1, 2.8f, 0}, {0, 0, 1}, kInfinity}, &h));
   EXPECT_EQ(h.geom, 5u);
+}
+
+TEST(EmbreeAccel, QuadPairsAreRecognised) {
+  const Point3 p[5] = {};
+  const uint32_t pairs[] = {0, 1, 2, 0, 2, 3, 1, 2, 3, 1, 3, 4};
+  const uint32_t turned[] = {0, 1, 2, 2, 3, 0};  // the same quad split the other way round
+  MeshView m;
+  m.p = p;
+  m.n_vertices = 5;
+  m.index = pairs;
+  m.n_triangles = 4;
+  EXPECT_TRUE(EmbreeAccel::quad_pairs(m));
+  m.n_triangles = 3;
+  EXPECT_FALSE(EmbreeAccel::quad_pairs(m));
+  m.index = turned;
+  m.n_triangles = 2;
+  EXPECT_FALSE(EmbreeAccel::quad_pairs(m));
+}
+
+// A root group of quad-pair meshes goes to Embree as quads (EmbreeAccel::quad_pairs);
+// its hits must be the triangles' own: the same triangle, distance and barycentrics as
+// the same mesh given as triangles (a lone triangle beside it keeps the group in
+// triangles), on bent quads whose two triangles are not coplanar.
+TEST(EmbreeAccel, QuadPairsHitAsTheirTriangles) {
+  constexpr int kN = 4;  // kN × kN quads over [−2, 2]², heights bent at random
+  PCG32 rng;
+  rng.set_sequence(7, 3);
+  std::vector<Point3> p;
+  for (int j = 0; j <= kN; ++j)
+    for (int i = 0; i <= kN; ++i) p.push_back({-2 + 4 * Float(i) / kN, 0.6f * rng.next_float(), -2 + 4 * Float(j) / kN});
+  p.push_back({0, 0, 0});  // Embree padding
+  std::vector<uint32_t> index;
+  for (int j = 0; j < kN; ++j)
+    for (int i = 0; i < kN; ++i) {
+      const uint32_t a = uint32_t(j * (kN + 1) + i), b = a + 1, c = b + kN + 1, d = a + kN + 1;
+      for (uint32_t v : {a, b, c, a, c, d}) index.push_back(v);  // scene.cpp's split of quad (a b c d)
+    }
+  std::vector<Point3> far{{50, 50, 50}, {51, 50, 50}, {50, 51, 50}, {0, 0, 0}};
+  const std::vector<uint32_t> far_index{0, 1, 2};
+  ShapeView grid, lone;
+  grid.mesh.p = p.data();
+  grid.mesh.index = index.data();
+  grid.mesh.n_triangles = uint32_t(index.size() / 3);
+  grid.mesh.n_vertices = uint32_t(p.size() - 1);
+  lone.mesh.p = far.data();
+  lone.mesh.index = far_index.data();
+  lone.mesh.n_triangles = 1;
+  lone.mesh.n_vertices = 3;
+  EmbreeAccel quads, triangles;
+  quads.build({{grid}}, {}, {});
+  triangles.build({{grid, lone}}, {}, {});
+  ASSERT_EQ(quads.root_quads(), std::vector<uint8_t>{1});
+  ASSERT_EQ(triangles.root_quads(), (std::vector<uint8_t>{0, 0}));
+  int hits = 0, second = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const Point3 o{-2.5f + 5 * rng.next_float(), 2 + rng.next_float(), -2.5f + 5 * rng.next_float()};
+    const Point3 target{-2 + 4 * rng.next_float(), 0.3f, -2 + 4 * rng.next_float()};
+    const Ray r{o, normalize(target - o), kInfinity};
+    HitRecord hq, ht;
+    const bool fq = quads.intersect(r, &hq), ft = triangles.intersect(r, &ht);
+    ASSERT_EQ(fq, ft) << "ray " << k;
+    if (!ft) continue;
+    ++hits;
+    EXPECT_NEAR(hq.t, ht.t, 1e-4f * ht.t) << "ray " << k;
+    // The hit point from each record's own triangle and barycentrics.
+    auto point = [&](const HitRecord& h) {
+      const uint32_t* t = index.data() + 3 * h.prim;
+      return p[t[0]] * (1 - h.u - h.v) + p[t[1]] * h.u + p[t[2]] * h.v;
+    };
+    EXPECT_LT(length(point(hq) - point(ht)), 1e-4f) << "ray " << k;
+    // Away from the shared diagonal a–c (weight 0 on b or on d) the triangle is the same.
+    const Float off_diagonal = ht.prim % 2 == 0 ? ht.u : ht.v;
+    if (off_diagonal > 1e-3f) {
+      EXPECT_EQ(hq.prim, ht.prim) << "ray " << k;
+      EXPECT_NEAR(hq.u, ht.u, 1e-4f) << "ray " << k;
+      EXPECT_NEAR(hq.v, ht.v, 1e-4f) << "ray " << k;
+    }
+    second += int(ht.prim % 2);
+  }
+  EXPECT_GT(hits, 3000);
+  EXPECT_GT(second, 1000);  // both triangles of the quads are met
 }
 
 // A mesh without uvs has the default parameterisation (0, 0), (1, 0), (1, 1) at its three

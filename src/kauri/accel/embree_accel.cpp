@@ -14,9 +14,25 @@ void check(RTCDevice d, const char* what) {
     throw std::runtime_error(std::string("Embree error ") + std::to_string(int(e)) + " while " + what);
 }
 
-RTCGeometry make_geometry(RTCDevice dev, const ShapeView& s) {
+/// A quad_pairs() mesh as Embree quads (EmbreeAccel::quad_pairs): pair (a, b, c),
+/// (a, c, d) as quad (b, c, d, a).
+RTCGeometry make_quads(RTCDevice dev, const MeshView& m) {
+  RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_QUAD);
+  rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, m.p, 0, sizeof(Point3), m.n_vertices);
+  const uint32_t n = m.n_triangles / 2;
+  auto* q = static_cast<uint32_t*>(
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(uint32_t), n));
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t* t = m.index + 6 * i;  // a b c, a c d
+    q[4 * i] = t[1], q[4 * i + 1] = t[2], q[4 * i + 2] = t[5], q[4 * i + 3] = t[0];
+  }
+  return g;
+}
+
+RTCGeometry make_geometry(RTCDevice dev, const ShapeView& s, bool quads) {
   switch (s.type) {
     case ShapeType::Mesh: {
+      if (quads) return make_quads(dev, s.mesh);
       RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
       // Shared buffers: Embree reads our arrays in place; the host scene keeps
       // one padding vertex because Embree may load 16 bytes from the last one.
@@ -60,6 +76,15 @@ void extend_bounds(const ShapeView& s, const Transform* xf, Bounds3* b) {
 
 }  // namespace
 
+bool EmbreeAccel::quad_pairs(const MeshView& m) {
+  if (m.n_triangles == 0 || m.n_triangles % 2 != 0) return false;
+  for (uint32_t i = 0; i < m.n_triangles; i += 2) {
+    const uint32_t* t = m.index + 3 * size_t(i);
+    if (t[3] != t[0] || t[4] != t[2]) return false;
+  }
+  return true;
+}
+
 EmbreeAccel::EmbreeAccel() {
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw std::runtime_error("could not create an Embree device");
@@ -72,12 +97,17 @@ EmbreeAccel::~EmbreeAccel() {
 }
 
 /// `keep_analytic` false: spheres and disks are left out (the root's direct shapes).
-RTCScene EmbreeAccel::build_group(const std::vector<ShapeView>& shapes, bool keep_analytic) {
+RTCScene EmbreeAccel::build_group(const std::vector<ShapeView>& shapes, bool keep_analytic, bool quads) {
   RTCScene scene = rtcNewScene(device_);
   rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+  // Quads only where every mesh is quad pairs (quad_pairs: one BVH, not one per type).
+  bool as_quads = quads;
+  for (const ShapeView& s : shapes) as_quads = as_quads && (s.type != ShapeType::Mesh || quad_pairs(s.mesh));
+  if (quads) root_quads_.assign(shapes.size(), 0);
   for (size_t i = 0; i < shapes.size(); ++i) {
     if (!keep_analytic && shapes[i].type != ShapeType::Mesh) continue;
-    RTCGeometry g = make_geometry(device_, shapes[i]);
+    if (as_quads && shapes[i].type == ShapeType::Mesh) root_quads_[i] = 1;
+    RTCGeometry g = make_geometry(device_, shapes[i], quads && root_quads_[i]);
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(scene, g, unsigned(i));
     rtcReleaseGeometry(g);
@@ -96,11 +126,11 @@ void EmbreeAccel::build(const std::vector<std::vector<ShapeView>>& groups, const
   if (direct)
     for (size_t i = 0; i < root.size(); ++i)
       if (root[i].type != ShapeType::Mesh) direct_.push_back({root[i].type, unsigned(i), root[i].sphere, root[i].disk});
-  root_ = build_group(root, !direct);
+  root_ = build_group(root, !direct, true);
   for (const ShapeView& s : groups[0]) extend_bounds(s, nullptr, &bounds_);
   prototypes_.assign(groups.size(), nullptr);
   for (size_t g = 1; g < groups.size(); ++g) {
-    prototypes_[g] = build_group(groups[g], true);
+    prototypes_[g] = build_group(groups[g], true, false);
     rtcCommitScene(prototypes_[g]);
   }
   const unsigned first_instance_id = unsigned(groups[0].size());

@@ -4,6 +4,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <cstdint>
 #include <vector>
 
 #include "kauri/geometry/shapes.h"
@@ -28,6 +29,34 @@ class EmbreeAccel {
   /// traverses each per ray: one sphere beside triangles halved its throughput (bench
   /// textured scene), while a few analytic tests cost a few dozen instructions.
   static constexpr size_t kMaxDirectShapes = 8;
+
+  /// Whether `m`'s triangles come in pairs (a, b, c), (a, c, d), as the scene splits its
+  /// quads (scene.cpp). Where every mesh of the root group is such, Embree gets them as
+  /// quads (b, c, d, a), whose two triangles (b, c, a) and (d, a, c) are the pair's own,
+  /// diagonal a–c included: Embree tests a quad's two triangles at once over a BVH of half
+  /// the primitives. One-thread render time side by side (bench/ab_builds.py): textured
+  /// room 0.89x, Cornell box 0.95x, hangar 1.07x (its 144 lamps, 4 to a leaf as quads
+  /// rather than 2, are entered by more of the rays that pass between them). Not where
+  /// some meshes are triangles: Embree keeps a BVH per primitive type and traverses each
+  /// per ray (the Cornell box with its lamp as triangles beside quad walls gained nothing).
+  /// Hits are reported as the triangle's (quad_hit), so nothing past the accelerator sees
+  /// the quads.
+  static bool quad_pairs(const MeshView& m);
+  /// Per root geometry id: 1 where Embree holds the mesh as quads (its hits are mapped by
+  /// quad_hit here; callers of intersect8 map them themselves).
+  const std::vector<uint8_t>& root_quads() const { return root_quads_; }
+  /// A hit (u, v) on the quad `prim` of a quad_pairs() mesh as the hit on its triangle
+  /// 2·prim or 2·prim + 1 with that triangle's barycentrics. Embree's quad (v0 … v3)
+  /// parameterises its first triangle (v0, v1, v3) as v0 + u(v1 − v0) + v(v3 − v0) and its
+  /// second (v2, v3, v1), where u + v ≥ 1, as v2 + (1 − u)(v3 − v2) + (1 − v)(v1 − v2)
+  /// (Embree 3 API, RTC_GEOMETRY_TYPE_QUAD); with (v0 … v3) = (b, c, d, a) these are
+  /// triangle (a, b, c) at (1 − u − v, u) and triangle (a, c, d) at (1 − v, u + v − 1).
+  static void quad_hit(Float u, Float v, unsigned* prim, Float* hu, Float* hv) {
+    const bool second = u + v > 1;
+    *prim = 2 * *prim + (second ? 1u : 0u);
+    *hu = second ? 1 - v : 1 - u - v;
+    *hv = second ? u + v - 1 : u;
+  }
 
   EmbreeAccel();
   ~EmbreeAccel();
@@ -113,7 +142,8 @@ class EmbreeAccel {
   Bounds3 bounds() const { return bounds_; }
 
  private:
-  RTCScene build_group(const std::vector<ShapeView>& shapes, bool keep_analytic);
+  /// `quads`: quad_pairs() meshes as Embree quads, and root_quads_ set.
+  RTCScene build_group(const std::vector<ShapeView>& shapes, bool keep_analytic, bool quads);
   /// One Embree packet of m ≤ W rays (`coherent`: Embree's hint for rays that travel together).
   template <int W> void intersect_one_packet(const Ray* rays, int m, bool coherent, HitRecord* hits, bool* found) const;
   /// One Embree packet of m ≤ W shadow rays.
@@ -138,7 +168,8 @@ class EmbreeAccel {
     }
     return direct;
   }
-  static HitRecord embree_hit(Float t, Float u, Float v, unsigned geom, unsigned prim, unsigned inst) {
+  /// Embree's hit as a HitRecord: on a root quad mesh (root_quads_), its triangle's.
+  HitRecord embree_hit(Float t, Float u, Float v, unsigned geom, unsigned prim, unsigned inst) const {
     HitRecord h;
     h.t = t;
     h.u = u;
@@ -146,6 +177,8 @@ class EmbreeAccel {
     h.geom = geom;
     h.prim = prim;
     h.inst = inst;
+    if (inst == RTC_INVALID_GEOMETRY_ID && geom < root_quads_.size() && root_quads_[geom])
+      quad_hit(u, v, &h.prim, &h.u, &h.v);
     return h;
   }
   HitRecord direct_hit(int direct, Float t) const {
@@ -155,6 +188,7 @@ class EmbreeAccel {
   RTCScene root_ = nullptr;
   std::vector<RTCScene> prototypes_;
   std::vector<DirectShape> direct_;
+  std::vector<uint8_t> root_quads_;  // per root geometry id: 1 where Embree has it as quads
   Bounds3 bounds_;
 };
 

@@ -43,6 +43,8 @@ bool path_lanes_supported(const SceneView& s) {
 LaneTriangles LaneTrianglesStore::view() const {
   LaneTriangles t;
   t.first = first.data();
+  t.quads = quads.data();
+  t.any_quads = any_quads;
   for (int a = 0; a < 9; ++a) t.p[a] = p[a].data(), t.n[a] = n[a].data();
   for (int a = 0; a < 3; ++a) t.ng[a] = ng[a].data(), t.dpdu[a] = dpdu[a].data();
   for (int a = 0; a < 6; ++a) t.uv[a] = uv[a].data();
@@ -53,7 +55,7 @@ LaneTriangles LaneTrianglesStore::view() const {
   return t;
 }
 
-LaneTrianglesStore build_lane_triangles(const SceneView& s) {
+LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<uint8_t>& root_quads) {
   LaneTrianglesStore t;
   const InstanceView& root = s.instances[0];
   const GroupView& g = s.groups[root.group];
@@ -61,9 +63,11 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s) {
   for (int i = 0; i < g.n_shapes; ++i) {
     const bool mesh = g.shapes[i].type == ShapeType::Mesh;
     t.first.push_back(mesh ? int32_t(count) : -1);  // spheres and disks: hits lane by lane
+    t.quads.push_back(size_t(i) < root_quads.size() && root_quads[size_t(i)] ? -1 : 0);
+    t.any_quads |= t.quads.back() != 0;
     if (mesh) count += g.shapes[i].mesh.n_triangles;
   }
-  if (t.first.empty()) t.first.push_back(0);  // gathers of dead lanes read entry 0
+  if (t.first.empty()) t.first.push_back(0), t.quads.push_back(0);  // gathers of dead lanes read entry 0
   for (auto* v : {t.p, t.n}) for (int a = 0; a < 9; ++a) v[a].resize(std::max<size_t>(count, 1));
   for (auto* v : {t.ng, t.dpdu}) for (int a = 0; a < 3; ++a) v[a].resize(std::max<size_t>(count, 1));
   for (int a = 0; a < 6; ++a) t.uv[a].resize(std::max<size_t>(count, 1));

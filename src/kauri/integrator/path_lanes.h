@@ -8,7 +8,8 @@
 // the last bit, and where such a bit decides a comparison two paths part ways; the
 // images agree within noise, tests/cpp/test_path_lanes.cpp). The state stays in
 // structures of arrays from the camera hits to the outputs. Across the lanes: Embree's
-// queries (rtcIntersect8 / rtcOccluded8 packets filled from the lanes' vectors), triangle
+// queries (rtcIntersect8 / rtcOccluded8 packets filled from the lanes' vectors; a hit on
+// a mesh Embree holds as quads mapped to its triangle, as EmbreeAccel::quad_hit), triangle
 // surface hits (gathers from LaneTriangles), the shading frame, next-event estimation's
 // light point, densities, Lambert value and MIS weight, the cosine-weighted BSDF sample,
 // the throughput, roulette, the next rays' offset origins, and the ray tests of the
@@ -68,6 +69,8 @@ bool path_lanes_supported(const SceneView& s);
 /// material and the triangle's light (−1: none).
 struct LaneTriangles {
   const int32_t* first = nullptr;   // per root shape; −1: a sphere or disk
+  const int32_t* quads = nullptr;   // per root shape; −1: Embree has it as quads (EmbreeAccel::root_quads)
+  bool any_quads = false;
   const float* p[9] = {};           // p0.x, p0.y, p0.z, p1.x, …, p2.z
   const float* ng[3] = {};
   const float* dpdu[3] = {};
@@ -80,13 +83,14 @@ struct LaneTriangles {
 };
 /// Host storage of a LaneTriangles (build_lane_triangles).
 struct LaneTrianglesStore {
-  std::vector<int32_t> first, has_n, material, light;
+  std::vector<int32_t> first, quads, has_n, material, light;
   std::vector<float> p[9], ng[3], dpdu[3], n[9], uv[6];
-  bool reads_uv = true;
+  bool reads_uv = true, any_quads = false;
   LaneTriangles view() const;
 };
-/// The triangles of a path_lanes_supported() scene.
-LaneTrianglesStore build_lane_triangles(const SceneView& s);
+/// The triangles of a path_lanes_supported() scene; `root_quads`: EmbreeAccel::root_quads()
+/// of its accelerator (which meshes' hits the lanes map from quads to triangles).
+LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<uint8_t>& root_quads);
 
 #if KAURI_PATH_LANES
 namespace path_lanes_detail {
@@ -409,6 +413,13 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       geom = load(reinterpret_cast<const int32_t*>(rh.hit.geomID));
       prim = load(reinterpret_cast<const int32_t*>(rh.hit.primID));
       t = load(rh.ray.tfar), hu = load(rh.hit.u), hv = load(rh.hit.v);
+      if (tris.any_quads) {  // a quad's hit as its triangle's (EmbreeAccel::quad_hit)
+        const I32x8 quad = alive & (geom >= 0) & gather(tris.quads, geom >= 0 ? geom : I32x8{});
+        const I32x8 second = quad & (hu + hv > 1);
+        prim = quad ? prim + prim + (second & 1) : prim;
+        const F32x8 qu = second ? 1 - hv : 1 - hu - hv, qv = second ? hu + hv - 1 : hu;
+        hu = quad ? qu : hu, hv = quad ? qv : hv;
+      }
       if (n_direct) {  // Embree missed, a direct shape was met: its hit (EmbreeAccel::direct_hit)
         const I32x8 take = alive & (geom == -1) & (direct_geom >= 0);
         geom = take ? direct_geom : geom, prim = take ? I32x8{} : prim;

@@ -517,7 +517,7 @@ RenderResult render(const CompiledScene& scene, const RenderSettings& settings) 
   LaneTrianglesStore lane_triangles;
   LaneTriangles lane_view;
   if (cfg.integrator.path_lanes && path_lanes_supported(scene.view())) {
-    lane_triangles = build_lane_triangles(scene.view());
+    lane_triangles = build_lane_triangles(scene.view(), scene.accel().root_quads());
     lane_view = lane_triangles.view();
     ctx.lane_triangles = &lane_view;
   }
