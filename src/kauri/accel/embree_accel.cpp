@@ -29,6 +29,7 @@ RTCGeometry make_quads(RTCDevice dev, const MeshView& m) {
   return g;
 }
 
+/// `quads`: a mesh (quad_pairs()) as Embree quads; ignored for other shapes.
 RTCGeometry make_geometry(RTCDevice dev, const ShapeView& s, bool quads) {
   switch (s.type) {
     case ShapeType::Mesh: {
@@ -105,9 +106,10 @@ RTCScene EmbreeAccel::build_group(const std::vector<ShapeView>& shapes, bool kee
   for (const ShapeView& s : shapes) as_quads = as_quads && (s.type != ShapeType::Mesh || quad_pairs(s.mesh));
   if (quads) root_quads_.assign(shapes.size(), 0);
   for (size_t i = 0; i < shapes.size(); ++i) {
-    if (!keep_analytic && shapes[i].type != ShapeType::Mesh) continue;
-    if (as_quads && shapes[i].type == ShapeType::Mesh) root_quads_[i] = 1;
-    RTCGeometry g = make_geometry(device_, shapes[i], quads && root_quads_[i]);
+    const bool mesh = shapes[i].type == ShapeType::Mesh;
+    if (!keep_analytic && !mesh) continue;
+    if (as_quads && mesh) root_quads_[i] = 1;
+    RTCGeometry g = make_geometry(device_, shapes[i], as_quads);
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(scene, g, unsigned(i));
     rtcReleaseGeometry(g);
