@@ -42,16 +42,11 @@ bool path_lanes_supported(const SceneView& s) {
 
 LaneTriangles LaneTrianglesStore::view() const {
   LaneTriangles t;
-  t.first = first.data();
-  t.quads = quads.data();
+  t.shapes = shapes.data();
+  t.triangles = triangles.data();
+  t.uv = uv.empty() ? nullptr : uv.data();
+  t.normals = normals.empty() ? nullptr : normals.data();
   t.any_quads = any_quads;
-  for (int a = 0; a < 9; ++a) t.p[a] = p[a].data(), t.n[a] = n[a].data();
-  for (int a = 0; a < 3; ++a) t.ng[a] = ng[a].data(), t.dpdu[a] = dpdu[a].data();
-  for (int a = 0; a < 6; ++a) t.uv[a] = uv[a].data();
-  t.has_n = has_n.data();
-  t.material = material.data();
-  t.light = light.data();
-  t.reads_uv = reads_uv;
   return t;
 }
 
@@ -60,48 +55,52 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
   const InstanceView& root = s.instances[0];
   const GroupView& g = s.groups[root.group];
   size_t count = 0;
+  bool reads_uv = false, any_n = false;
   for (int i = 0; i < g.n_shapes; ++i) {
-    const bool mesh = g.shapes[i].type == ShapeType::Mesh;
-    t.first.push_back(mesh ? int32_t(count) : -1);  // spheres and disks: hits lane by lane
-    t.quads.push_back(size_t(i) < root_quads.size() && root_quads[size_t(i)] ? -1 : 0);
-    t.any_quads |= t.quads.back() != 0;
-    if (mesh) count += g.shapes[i].mesh.n_triangles;
+    const ShapeView& shape = g.shapes[i];
+    LaneShapeRow row;  // spheres and disks (first −1): their hits lane by lane
+    if (shape.type == ShapeType::Mesh) {
+      row.first = int32_t(count);
+      row.material = shape.material;
+      row.first_light = s.emitter_first_light[root.shape_slot_base + i];
+      row.has_n = shape.mesh.n ? -1 : 0;
+      count += shape.mesh.n_triangles;
+      reads_uv |= shape.material >= 0 && s.materials[shape.material].reads_uv;
+      any_n |= shape.mesh.n != nullptr;
+    }
+    row.quads = size_t(i) < root_quads.size() && root_quads[size_t(i)] ? -1 : 0;
+    t.any_quads |= row.quads != 0;
+    t.shapes.push_back(row);
   }
-  if (t.first.empty()) t.first.push_back(0), t.quads.push_back(0);  // gathers of dead lanes read entry 0
-  for (auto* v : {t.p, t.n}) for (int a = 0; a < 9; ++a) v[a].resize(std::max<size_t>(count, 1));
-  for (auto* v : {t.ng, t.dpdu}) for (int a = 0; a < 3; ++a) v[a].resize(std::max<size_t>(count, 1));
-  for (int a = 0; a < 6; ++a) t.uv[a].resize(std::max<size_t>(count, 1));
-  t.has_n.assign(std::max<size_t>(count, 1), 0);
-  t.material.assign(std::max<size_t>(count, 1), -1);
-  t.light.assign(std::max<size_t>(count, 1), -1);
-  t.reads_uv = false;
+  if (t.shapes.empty()) t.shapes.emplace_back();  // the rows of dead lanes: entry 0
+  const size_t rows = std::max<size_t>(count, 1);
+  t.triangles.assign(rows, LaneTriangleRow{});
+  if (reads_uv) t.uv.assign(rows, LaneUvRow{});
+  if (any_n) t.normals.assign(rows, LaneNormalRow{});
   for (int i = 0; i < g.n_shapes; ++i) {
     const ShapeView& shape = g.shapes[i];
     if (shape.type != ShapeType::Mesh) continue;
     const MeshView& m = shape.mesh;
-    t.reads_uv |= shape.material >= 0 && s.materials[shape.material].reads_uv;
-    const int first_light = s.emitter_first_light[root.shape_slot_base + i];
     for (uint32_t prim = 0; prim < m.n_triangles; ++prim) {
-      const size_t k = size_t(t.first[size_t(i)]) + prim;
+      const size_t k = size_t(t.shapes[size_t(i)].first) + prim;
       // triangle_hit at barycentrics (0, 0): its normal and ∂p/∂u are the triangle's.
       SurfaceHit sh;
       triangle_hit(m, prim, 0, 0, &sh);
       const uint32_t* idx = m.index + 3 * prim;
+      LaneTriangleRow& tr = t.triangles[k];
       for (int v = 0; v < 3; ++v)
         for (int a = 0; a < 3; ++a) {
-          t.p[3 * v + a][k] = m.p[idx[v]][a];
-          if (m.n) t.n[3 * v + a][k] = m.n[idx[v]][a];
+          tr.p[3 * v + a] = m.p[idx[v]][a];
+          if (m.n) t.normals[k].n[3 * v + a] = m.n[idx[v]][a];
         }
-      for (int a = 0; a < 3; ++a) t.ng[a][k] = sh.ng[a], t.dpdu[a][k] = sh.dpdu[a];
+      for (int a = 0; a < 3; ++a) tr.ng[a] = sh.ng[a], tr.dpdu[a] = sh.dpdu[a];
+      if (!reads_uv) continue;
       // The default parameterisation uv = (0, 0), (1, 0), (1, 1) without uvs (triangle_hit).
       const Vec2 uv_default[3] = {{0, 0}, {1, 0}, {1, 1}};
       for (int v = 0; v < 3; ++v) {
         const Vec2 uv = m.uv ? m.uv[idx[v]] : uv_default[v];
-        t.uv[2 * v][k] = uv.x, t.uv[2 * v + 1][k] = uv.y;
+        t.uv[k].uv[2 * v] = uv.x, t.uv[k].uv[2 * v + 1] = uv.y;
       }
-      t.has_n[k] = m.n ? -1 : 0;
-      t.material[k] = shape.material;
-      t.light[k] = first_light < 0 ? -1 : first_light + int32_t(prim);
     }
   }
   return t;

@@ -10,7 +10,7 @@
 // structures of arrays from the camera hits to the outputs. Across the lanes: Embree's
 // queries (rtcIntersect8 / rtcOccluded8 packets filled from the lanes' vectors; a hit on
 // a mesh Embree holds as quads mapped to its triangle, as EmbreeAccel::quad_hit), triangle
-// surface hits (gathers from LaneTriangles), the shading frame, next-event estimation's
+// surface hits (rows of LaneTriangles, transposed), the shading frame, next-event estimation's
 // light point, densities, Lambert value and MIS weight, the cosine-weighted BSDF sample,
 // the throughput, roulette, the next rays' offset origins, and the ray tests of the
 // spheres and disks that EmbreeAccel keeps out of Embree (its direct shapes). Lane by
@@ -51,8 +51,8 @@ namespace kauri {
 /// Paths a group traces together: one AVX2 vector of floats.
 inline constexpr int kPathLanes = 8;
 
-/// Triangles at most for the lanes: their tables (LaneTriangles) cost ~130 bytes a
-/// triangle besides the scene's own (66 MiB at this count). Larger scenes spend most of
+/// Triangles at most for the lanes: their tables (LaneTriangles) cost 64 bytes a triangle
+/// besides the scene's own, 160 with uv and shading normals (32–80 MiB at this count). Larger scenes spend most of
 /// their time in traversal, where the lanes gain least (the bench's million-triangle
 /// scene: 58% of its render is Embree's), and take trace_path().
 inline constexpr size_t kPathLanesMaxTriangles = size_t(1) << 19;
@@ -62,30 +62,48 @@ inline constexpr size_t kPathLanesMaxTriangles = size_t(1) << 19;
 /// code, once per render.
 bool path_lanes_supported(const SceneView& s);
 
-/// The root group's triangles as flat arrays indexed by triangle number (first[geom] +
-/// prim), so that the lanes' surface hits are gathers from one base: the vertices, and
-/// what triangle_hit() computes per triangle whatever the hit's barycentrics (the unit
-/// geometric normal and ∂p/∂u, by triangle_hit itself, so bit for bit its values), the
-/// material and the triangle's light (−1: none).
+/// The root group's shapes and triangles as tables of rows the lanes read by shape and by
+/// triangle number (first + prim): 8 lanes' rows are loaded and transposed into one vector
+/// per field (lanes::load_columns8), which costs less than a gather per field. A
+/// triangle's row holds what triangle_hit() computes per triangle whatever the hit's
+/// barycentrics (the unit geometric normal and ∂p/∂u, by triangle_hit itself, so bit for
+/// bit its values) beside its vertices.
+struct alignas(32) LaneShapeRow {
+  int32_t first = -1;        // its first triangle's number; −1: a sphere or disk
+  int32_t quads = 0;         // −1: Embree has it as quads (EmbreeAccel::root_quads)
+  int32_t material = -1;
+  int32_t first_light = -1;  // the light of its triangle `prim` is first_light + prim; −1: none
+  int32_t has_n = 0;         // −1: per-vertex shading normals
+  int32_t unused[3] = {};
+};
+struct alignas(64) LaneTriangleRow {
+  float p[9];     // p0.x, p0.y, p0.z, p1.x, …, p2.z
+  float ng[3];
+  float dpdu[3];
+  float unused;
+};
+struct alignas(32) LaneUvRow {
+  float uv[6];  // uv0.u, uv0.v, uv1.u, …: the mesh's, or triangle_hit's default
+  float unused[2];
+};
+struct alignas(64) LaneNormalRow {
+  float n[9];  // per-vertex shading normals, as p
+  float unused[7];
+};
 struct LaneTriangles {
-  const int32_t* first = nullptr;   // per root shape; −1: a sphere or disk
-  const int32_t* quads = nullptr;   // per root shape; −1: Embree has it as quads (EmbreeAccel::root_quads)
+  const LaneShapeRow* shapes = nullptr;       // per root shape
+  const LaneTriangleRow* triangles = nullptr;
+  const LaneUvRow* uv = nullptr;              // null: no mesh's material reads uv
+  const LaneNormalRow* normals = nullptr;     // null: no mesh has shading normals
   bool any_quads = false;
-  const float* p[9] = {};           // p0.x, p0.y, p0.z, p1.x, …, p2.z
-  const float* ng[3] = {};
-  const float* dpdu[3] = {};
-  const float* n[9] = {};           // per-vertex shading normals, as p; 0 where a mesh has none
-  const float* uv[6] = {};          // uv0.u, uv0.v, uv1.u, …: the mesh's, or triangle_hit's default
-  const int32_t* has_n = nullptr;   // −1: the triangle's mesh has shading normals
-  const int32_t* material = nullptr;
-  const int32_t* light = nullptr;
-  bool reads_uv = true;             // false: no mesh's material reads uv (no texture lookups)
 };
 /// Host storage of a LaneTriangles (build_lane_triangles).
 struct LaneTrianglesStore {
-  std::vector<int32_t> first, quads, has_n, material, light;
-  std::vector<float> p[9], ng[3], dpdu[3], n[9], uv[6];
-  bool reads_uv = true, any_quads = false;
+  std::vector<LaneShapeRow> shapes;
+  std::vector<LaneTriangleRow> triangles;
+  std::vector<LaneUvRow> uv;
+  std::vector<LaneNormalRow> normals;
+  bool any_quads = false;
   LaneTriangles view() const;
 };
 /// The triangles of a path_lanes_supported() scene; `root_quads`: EmbreeAccel::root_quads()
@@ -275,16 +293,14 @@ struct Vertices {
 namespace path_lanes_detail {
 /// Lane k of a vector triple.
 inline Vec3 lane(const V3& v, int k) { return {v.x[k], v.y[k], v.z[k]}; }
-inline F32x8 gather(const float* base, I32x8 i) {
-  const __m256 v = _mm256_i32gather_ps(base, (__m256i)i, 4);
-  F32x8 r;
-  __builtin_memcpy(&r, &v, sizeof r);
-  return r;
+/// Columns 8c … 8c + 7 of the rows `index` of a LaneTriangles table (lanes::load_columns8).
+template <class Row>
+inline void load_columns(const Row* table, I32x8 index, int c, F32x8 column[8]) {
+  static_assert(sizeof(Row) % 32 == 0 && alignof(Row) >= 32, "rows of whole 32-byte columns");
+  __m256 v[8];
+  lanes::load_columns8(reinterpret_cast<const float*>(table), int(sizeof(Row) / sizeof(float)), index, c, v);
+  __builtin_memcpy(column, v, sizeof v);
 }
-inline I32x8 gather(const int32_t* base, I32x8 i) {
-  return (I32x8)_mm256_i32gather_epi32(reinterpret_cast<const int*>(base), (__m256i)i, 4);
-}
-inline V3 gather3(const float* const base[3], I32x8 i) { return {gather(base[0], i), gather(base[1], i), gather(base[2], i)}; }
 /// offset_ray_origin over lanes (the same steps, axis by axis).
 inline F32x8 offset_axis(F32x8 p, F32x8 n) {
   constexpr Float kOrigin = 1.0f / 32.0f, kFloatScale = 1.0f / 65536.0f, kIntScale = 256.0f;
@@ -413,18 +429,23 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       geom = load(reinterpret_cast<const int32_t*>(rh.hit.geomID));
       prim = load(reinterpret_cast<const int32_t*>(rh.hit.primID));
       t = load(rh.ray.tfar), hu = load(rh.hit.u), hv = load(rh.hit.v);
-      if (tris.any_quads) {  // a quad's hit as its triangle's (EmbreeAccel::quad_hit)
-        const I32x8 quad = alive & (geom >= 0) & gather(tris.quads, geom >= 0 ? geom : I32x8{});
-        const I32x8 second = quad & (hu + hv > 1);
-        prim = quad ? prim + prim + (second & 1) : prim;
-        const F32x8 qu = second ? 1 - hv : 1 - hu - hv, qv = second ? hu + hv - 1 : hu;
-        hu = quad ? qu : hu, hv = quad ? qv : hv;
-      }
       if (n_direct) {  // Embree missed, a direct shape was met: its hit (EmbreeAccel::direct_hit)
         const I32x8 take = alive & (geom == -1) & (direct_geom >= 0);
         geom = take ? direct_geom : geom, prim = take ? I32x8{} : prim;
         t = take ? tmax : t, hu = take ? F32x8{} : hu, hv = take ? F32x8{} : hv;
       }
+    }
+    // The hit shapes' rows (LaneShapeRow; lanes without a hit read row 0).
+    F32x8 shape_row[8];
+    load_columns(tris.shapes, (alive & (geom >= 0)) ? geom : I32x8{}, 0, shape_row);
+    const I32x8 shape_first = (I32x8)shape_row[0], shape_material = (I32x8)shape_row[2];
+    const I32x8 shape_light = (I32x8)shape_row[3], shape_has_n = (I32x8)shape_row[4];
+    if (!first && tris.any_quads) {  // a quad's hit as its triangle's (EmbreeAccel::quad_hit)
+      const I32x8 quad = alive & (geom >= 0) & (I32x8)shape_row[1];
+      const I32x8 second = quad & (hu + hv > 1);
+      prim = quad ? prim + prim + (second & 1) : prim;
+      const F32x8 qu = second ? 1 - hv : 1 - hu - hv, qv = second ? hu + hv - 1 : hu;
+      hu = quad ? qu : hu, hv = quad ? qv : hv;
     }
     ray_count += alive & 1;
     const I32x8 escaped = alive & (geom == -1);
@@ -441,30 +462,37 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
 
     // The surface at the hits (triangle_hit), across the lanes; spheres and disks lane by
     // lane below.
-    const I32x8 first_tri = gather(tris.first, alive ? geom : I32x8{});
-    const I32x8 mesh = alive & (first_tri >= 0);
-    const I32x8 tri = mesh ? first_tri + prim : I32x8{};
+    const I32x8 mesh = alive & (shape_first >= 0);
+    const I32x8 tri = mesh ? shape_first + prim : I32x8{};
     const F32x8 w = 1 - hu - hv;
-    const V3 p0 = gather3(tris.p, tri), p1 = gather3(tris.p + 3, tri), p2 = gather3(tris.p + 6, tri);
+    F32x8 row[16];  // LaneTriangleRow
+    load_columns(tris.triangles, tri, 0, row);
+    load_columns(tris.triangles, tri, 1, row + 8);
+    const V3 p0{row[0], row[1], row[2]}, p1{row[3], row[4], row[5]}, p2{row[6], row[7], row[8]};
     V3 p = p0 * w + p1 * hu + p2 * hv;
-    V3 ng = gather3(tris.ng, tri);
+    V3 ng{row[9], row[10], row[11]};
     V3 ns = ng;
-    V3 dpdu = gather3(tris.dpdu, tri);
+    V3 dpdu{row[12], row[13], row[14]};
     F32x8 uv[2] = {};
-    if (tris.reads_uv)  // six gathers that scenes without textures skip
-      for (int a = 0; a < 2; ++a)
-        uv[a] = gather(tris.uv[a], tri) * w + gather(tris.uv[2 + a], tri) * hu + gather(tris.uv[4 + a], tri) * hv;
-    const I32x8 has_n = gather(tris.has_n, tri) & alive;
+    if (tris.uv) {  // scenes without textures skip the uv rows
+      F32x8 r[8];
+      load_columns(tris.uv, tri, 0, r);
+      for (int a = 0; a < 2; ++a) uv[a] = r[a] * w + r[2 + a] * hu + r[4 + a] * hv;
+    }
+    const I32x8 has_n = shape_has_n & mesh;
     if (any(has_n)) {
-      const V3 nv = gather3(tris.n, tri) * w + gather3(tris.n + 3, tri) * hu + gather3(tris.n + 6, tri) * hv;
+      F32x8 r[16];
+      load_columns(tris.normals, tri, 0, r);
+      load_columns(tris.normals, tri, 1, r + 8);
+      const V3 nv = V3{r[0], r[1], r[2]} * w + V3{r[3], r[4], r[5]} * hu + V3{r[6], r[7], r[8]} * hv;
       const F32x8 l2 = dot(nv, nv);
       const V3 nn = nv * (1 / vsqrt(l2 > 0 ? l2 : splat(1)));
       ns = select(has_n & (l2 > 0), select(dot(nn, ng) < 0, -nn, nn), ng);
     }
     const V3 wo = -d;
     alignas(32) int32_t material[W], light[W];
-    store(mesh ? gather(tris.material, tri) : ~I32x8{}, material);
-    store(mesh ? gather(tris.light, tri) : ~I32x8{}, light);
+    store(mesh ? shape_material : ~I32x8{}, material);
+    store((mesh & (shape_light >= 0)) ? shape_light + prim : ~I32x8{}, light);
     V.p.store(p), V.ng.store(ng), V.ns.store(ns), V.wo.store(wo), V.dpdu.store(dpdu);
     store(uv[0], V.uv[0]), store(uv[1], V.uv[1]);
     const I32x8 analytic = alive & ~mesh;
