@@ -782,6 +782,37 @@ TEST(Sobol, BatchMatchesOwenSobol2dBitForBit) {
   }
 }
 
+// get_2d_n (the path lanes' three pairs a bounce) must be n calls of get_2d: the same
+// values and the same state after, from odd and even dimensions, within a batch and
+// across a batch's end, for every sampler type, including right after a sample starts
+// (no batch computed yet).
+TEST(Sobol, SeveralPairsAtOnceAreConsecutiveGet2d) {
+  PCG32 rng;
+  rng.set_sequence(12, 3);
+  for (SamplerType type : {SamplerType::Sobol, SamplerType::ZSobol, SamplerType::Independent})
+    for (int trial = 0; trial < 3000; ++trial) {
+      Sampler a;
+      a.type = type;
+      a.set_samples_per_pixel(64);
+      a.start_pixel_sample(int(rng.next_u32() % 32), int(rng.next_u32() % 32), rng.next_u32() % 64, 77);
+      const int skip = int(rng.next_u32() % 21);  // 1D requests: an odd dimension half the time
+      for (int i = 0; i < skip; ++i) a.get_1d();
+      Sampler b = a;
+      const int n = 1 + int(rng.next_u32() % 4);
+      Vec2 u[4];
+      b.get_2d_n(u, n);
+      for (int i = 0; i < n; ++i) {
+        const Vec2 v = a.get_2d();
+        ASSERT_EQ(float_as_bits(u[i].x), float_as_bits(v.x)) << int(type) << " trial " << trial << " pair " << i;
+        ASSERT_EQ(float_as_bits(u[i].y), float_as_bits(v.y)) << int(type) << " trial " << trial << " pair " << i;
+      }
+      ASSERT_EQ(a.dimension, b.dimension);
+      const Vec2 va = a.get_2d(), vb = b.get_2d();  // and the stream goes on alike
+      ASSERT_EQ(float_as_bits(va.x), float_as_bits(vb.x));
+      ASSERT_EQ(float_as_bits(va.y), float_as_bits(vb.y));
+    }
+}
+
 // The Sampler's request stream (1D requests share a pair, 2D requests start on an even
 // dimension) must be exactly the padded sequence: 1D values are coordinates of
 // owen_sobol_2d, whatever mix of 1D and 2D requests and skips a path makes.

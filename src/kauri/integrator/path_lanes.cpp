@@ -43,6 +43,7 @@ bool path_lanes_supported(const SceneView& s) {
 LaneTriangles LaneTrianglesStore::view() const {
   LaneTriangles t;
   t.shapes = shapes.data();
+  t.lights = lights.data();
   t.triangles = triangles.data();
   t.uv = uv.empty() ? nullptr : uv.data();
   t.normals = normals.empty() ? nullptr : normals.data();
@@ -73,6 +74,15 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
     t.shapes.push_back(row);
   }
   if (t.shapes.empty()) t.shapes.emplace_back();  // the rows of dead lanes: entry 0
+  t.lights.assign(std::max(s.n_lights, 1), LaneLightRow{});
+  for (int i = 0; i < s.n_lights; ++i) {
+    const Light& l = s.lights[i];
+    if (l.type != LightType::Triangle) continue;
+    LaneLightRow& r = t.lights[size_t(i)];
+    for (int a = 0; a < 3; ++a) r.p0[a] = l.p0[a], r.p1[a] = l.p1[a], r.p2[a] = l.p2[a], r.n[a] = l.n[a];
+    r.inv_area = 1 / l.area;
+    r.two_sided = l.two_sided ? -1 : 0;
+  }
   const size_t rows = std::max<size_t>(count, 1);
   t.triangles.assign(rows, LaneTriangleRow{});
   if (reads_uv) t.uv.assign(rows, LaneUvRow{});

@@ -90,8 +90,17 @@ struct alignas(64) LaneNormalRow {
   float n[9];  // per-vertex shading normals, as p
   float unused[7];
 };
+/// A triangle light's row (per scene light; zero for the others): what next-event
+/// estimation's point on it needs.
+struct alignas(64) LaneLightRow {
+  float p0[3], p1[3], p2[3], n[3];
+  float inv_area;     // 1 / area
+  int32_t two_sided;  // −1: emits on both sides
+  float unused[2];
+};
 struct LaneTriangles {
   const LaneShapeRow* shapes = nullptr;       // per root shape
+  const LaneLightRow* lights = nullptr;       // per scene light
   const LaneTriangleRow* triangles = nullptr;
   const LaneUvRow* uv = nullptr;              // null: no mesh's material reads uv
   const LaneNormalRow* normals = nullptr;     // null: no mesh has shading normals
@@ -100,6 +109,7 @@ struct LaneTriangles {
 /// Host storage of a LaneTriangles (build_lane_triangles).
 struct LaneTrianglesStore {
   std::vector<LaneShapeRow> shapes;
+  std::vector<LaneLightRow> lights;
   std::vector<LaneTriangleRow> triangles;
   std::vector<LaneUvRow> uv;
   std::vector<LaneNormalRow> normals;
@@ -278,9 +288,8 @@ struct Vertices {
   alignas(32) float uv[2][W];
   SpectrumLanes albedo;              // w_b · ρ(λ)
   alignas(32) float u_light[2][W], u_rr[W], u_bsdf[2][W];
-  alignas(32) float light_pmf[W], light_inv_area[W];
-  alignas(32) int32_t light_two_sided[W];
-  V3Lanes light_p0, light_p1, light_p2, light_n;
+  alignas(32) float light_pmf[W];
+  alignas(32) int32_t light_index[W];  // a triangle light's row (LaneTriangles::lights)
   // An infinite light's sample (sample_light, lane by lane): −1 in light_dir, its direction
   // and solid-angle density; light_delta −1 for a distant light.
   alignas(32) int32_t light_dir[W], light_delta[W];
@@ -403,7 +412,13 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   I32x8 ray_count{};
   alignas(32) RTCRayHit8 rh;
   alignas(32) RTCRay8 shadow;
+  // The packets' fields that stay the same: Embree writes a query's tfar and hit only.
+  for (RTCRay8* r : {&rh.ray, &shadow}) {
+    put(r->tnear, F32x8{}), put(r->time, F32x8{});
+    put(r->mask, ~I32x8{}), put(r->id, I32x8{}), put(r->flags, I32x8{});
+  }
   alignas(32) int32_t valid[W];
+  const bool tree = cfg.light_tree && s.light_tree.n_nodes > 0;  // choose_light reads the point and normal
   const size_t n_direct = accel.direct_shape_count();
   const DirectShape* direct_shapes = accel.direct_shapes();
   for (bool first = true;; first = false) {
@@ -421,8 +436,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         tmax = h ? ti : tmax;
         direct_geom = h ? I32x8{} + int32_t(direct_shapes[i].geom) : direct_geom;
       }
-      put(rh.ray.tnear, F32x8{}), put(rh.ray.tfar, tmax), put(rh.ray.time, F32x8{});
-      put(rh.ray.mask, ~I32x8{}), put(rh.ray.id, I32x8{}), put(rh.ray.flags, I32x8{});
+      put(rh.ray.tfar, tmax);
       put(rh.hit.geomID, ~I32x8{}), put(rh.hit.instID[0], ~I32x8{});
       store(alive, valid);
       accel.intersect8(valid, &rh);
@@ -514,27 +528,32 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     for (int bits = mask_bits(alive); bits;) {
       const int k = next_lane(&bits);
       PathOutput& out = outs[k];
-      Sampler& sampler = samplers[k];
-      const Point3 hp = V.p.get(k);
-      const Normal3 hng = V.ng.get(k), hns = V.ns.get(k);
-      const Vec3 hwo = V.wo.get(k);
       const int hmat = material[k], hlight = light[k];
       const bool scatters = hmat >= 0 && P.depth[k] < cfg.max_depth && !P.last_segment[k];
+      // The bounce's pairs at once: the light choice's, the lobe and roulette's, the
+      // direction's (get_2d_n).
+      Vec2 u[3];
+      if (scatters) samplers[k].get_2d_n(u, 3);
       path_detail::LightChoice lc;
-      if (scatters) lc = path_detail::choose_light(s, cfg, hp, hns, sampler.get_2d());
+      // The light tree weighs the lights by the point and its normal; the power
+      // distribution reads neither, and the lane's values stay in their vectors.
+      if (scatters) lc = path_detail::choose_light(s, cfg, tree ? V.p.get(k) : Point3{}, tree ? V.ns.get(k) : Normal3{}, u[0]);
       if (P.depth[k] == 0) {
         out.hit = true;
-        out.normal = hns;
-        out.depth = t[k] * kauri::dot(-hwo, s.camera_forward);
+        out.normal = V.ns.get(k);
+        out.depth = t[k] * kauri::dot(-V.wo.get(k), s.camera_forward);
       }
-      if (hlight >= 0 &&
-          !(P.depth[k] == 0 && path_detail::add_area_seen_directly(s.lights[hlight], hng, hwo, &out.rgb_exact))) {
-        const Light& l = s.lights[hlight];
-        const SampledSpectrum Le = area_light_L(l, hng, hwo, lambda[k], &P.emission[k]);
-        if (!Le.is_black()) {
-          const PathState st = P.state(k);
-          const Float wm = path_detail::emitter_mis_weight(s, cfg, st, hlight, -hwo, hp, hng);
-          P.add(k, st.beta * Le * wm, ContributionKind::Emission);
+      if (hlight >= 0) {
+        const Normal3 hng = V.ng.get(k);
+        const Vec3 hwo = V.wo.get(k);
+        if (!(P.depth[k] == 0 && path_detail::add_area_seen_directly(s.lights[hlight], hng, hwo, &out.rgb_exact))) {
+          const Light& l = s.lights[hlight];
+          const SampledSpectrum Le = area_light_L(l, hng, hwo, lambda[k], &P.emission[k]);
+          if (!Le.is_black()) {
+            const PathState st = P.state(k);
+            const Float wm = path_detail::emitter_mis_weight(s, cfg, st, hlight, -hwo, V.p.get(k), hng);
+            P.add(k, st.beta * Le * wm, ContributionKind::Emission);
+          }
         }
       }
       if (hmat < 0) {  // pure emitter: black surface
@@ -558,6 +577,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         out.albedo_set = true;
       }
       if (!scatters || !(w_b > 0)) {  // a budget is spent, or a BSDF without lobes
+        // trace_path takes the light choice's pair alone before it ends such a path.
+        if (scatters && samplers[k].type != SamplerType::Independent) samplers[k].dimension -= 4;
         P.alive[k] = 0;
         continue;
       }
@@ -567,25 +588,23 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         const Light& l = s.lights[lc.light];
         V.nee[k] = -1;
         V.light_pmf[k] = lc.pmf;
-        if (l.type == LightType::Triangle) {  // its point across the lanes below
+        if (l.type == LightType::Triangle) {  // its row and its point across the lanes below
           V.light_dir[k] = V.light_delta[k] = 0;
           V.u_light[0][k] = lc.u.x, V.u_light[1][k] = lc.u.y;
-          V.light_inv_area[k] = 1 / l.area;
-          V.light_two_sided[k] = l.two_sided ? -1 : 0;
-          V.light_p0.set(k, l.p0), V.light_p1.set(k, l.p1), V.light_p2.set(k, l.p2), V.light_n.set(k, l.n);
+          V.light_index[k] = lc.light;
           V.Le.set(k, light_emission(l, lambda[k], &P.emission[k]));
         } else {  // an infinite light (path_lanes_supported): a direction, sampled here
-          const LightSample ls = sample_light(l, hp, lc.u, lambda[k], kNextEventDensity, &P.emission[k]);
+          const LightSample ls = sample_light(l, V.p.get(k), lc.u, lambda[k], kNextEventDensity, &P.emission[k]);
           V.light_dir[k] = -1;
           V.light_delta[k] = ls.delta ? -1 : 0;
+          V.light_index[k] = 0;
           V.light_wi.set(k, ls.wi);
           V.light_pdf[k] = ls.pdf;
           V.Le.set(k, ls.L);
         }
       }
-      const Vec2 u_lobe_rr = sampler.get_2d(), u = sampler.get_2d();
-      V.u_rr[k] = u_lobe_rr.y;
-      V.u_bsdf[0][k] = u.x, V.u_bsdf[1][k] = u.y;
+      V.u_rr[k] = u[1].y;
+      V.u_bsdf[0][k] = u[2].x, V.u_bsdf[1][k] = u[2].y;
     }
     const I32x8 scatter = load(V.scatter);
     if (!any(scatter)) break;  // every path ended at this bounce
@@ -615,16 +634,20 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       const I32x8 lower = ux < uy;
       const F32x8 h = (lower ? ux : uy) / 2;
       const F32x8 b0 = lower ? h : ux - h, b1 = lower ? uy - h : h;
-      const V3 pl = V.light_p0.load() * b0 + V.light_p1.load() * b1 + V.light_p2.load() * (1 - b0 - b1);
-      const V3 nl = V.light_n.load();
+      F32x8 lr[16];  // LaneLightRow
+      const I32x8 light_row = (nee & ~dir) ? load(V.light_index) : I32x8{};
+      load_columns(tris.lights, light_row, 0, lr);
+      load_columns(tris.lights, light_row, 1, lr + 8);
+      const V3 pl = V3{lr[0], lr[1], lr[2]} * b0 + V3{lr[3], lr[4], lr[5]} * b1 + V3{lr[6], lr[7], lr[8]} * (1 - b0 - b1);
+      const V3 nl{lr[9], lr[10], lr[11]};
       const V3 dl = pl - p;
       const F32x8 d2 = dot(dl, dl);
       const V3 wi_tri = dl * (1 / vsqrt(d2 > 0 ? d2 : splat(1)));
       const F32x8 nd = vabs(dot(nl, dl));
-      const F32x8 pdf_tri = nd > 0 ? load(V.light_inv_area) * (d2 / (nd > 0 ? nd : splat(1))) * vsqrt(d2) : F32x8{};
+      const F32x8 pdf_tri = nd > 0 ? lr[12] * (d2 / (nd > 0 ? nd : splat(1))) * vsqrt(d2) : F32x8{};
       const V3 wi = select(dir, V.light_wi.load(), wi_tri);
       const F32x8 pdf_l = dir ? load(V.light_pdf) : pdf_tri;
-      const I32x8 emits = dir | load(V.light_two_sided) | (dot(nl, -wi) > 0);
+      const I32x8 emits = dir | (I32x8)lr[13] | (dot(nl, -wi) > 0);
       const V3 wi_l{dot(wi, fx), dot(wi, fy), dot(wi, fz)};
       const I32x8 reflects = lambert_mask(wi, wi_l);
       const F32x8 pdf_b = (wo_l.z * wi_l.z > 0) ? vabs(wi_l.z) * kInvPi : F32x8{};
@@ -651,8 +674,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         const F32x8 stmax = dir ? splat(kInfinity) : splat(1 - 1e-4f);
         put(shadow.org_x, so.x), put(shadow.org_y, so.y), put(shadow.org_z, so.z);
         put(shadow.dir_x, sd.x), put(shadow.dir_y, sd.y), put(shadow.dir_z, sd.z);
-        put(shadow.tnear, F32x8{}), put(shadow.tfar, stmax), put(shadow.time, F32x8{});
-        put(shadow.mask, ~I32x8{}), put(shadow.id, I32x8{}), put(shadow.flags, I32x8{});
+        put(shadow.tfar, stmax);
         // As EmbreeAccel::occluded: a direct shape answers first.
         I32x8 unblocked = test;
         for (size_t i = 0; i < n_direct; ++i) {
@@ -661,12 +683,13 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         }
         store(unblocked, valid);
         accel.occluded8(valid, &shadow);
+        // Paths::add of β·c across the lanes: light reached from the first vertex is direct.
         const I32x8 lit = load(valid) & (load(shadow.tfar) >= 0);
-        for (int bits = mask_bits(lit); bits;) {
-          const int k = next_lane(&bits);
-          SampledSpectrum Ld;
-          for (int i = 0; i < kSpectrumSamples; ++i) Ld[i] = c[i][k];
-          P.add(k, P.beta.get(k) * Ld, ContributionKind::DirectLight);
+        const I32x8 first_vertex = load(P.depth) == 0;
+        for (int i = 0; i < kSpectrumSamples; ++i) {
+          const F32x8 add = lit ? load(P.beta.v[i]) * c[i] : F32x8{};
+          store(load(P.L_direct.v[i]) + (first_vertex ? add : F32x8{}), P.L_direct.v[i]);
+          store(load(P.L.v[i]) + (first_vertex ? F32x8{} : add), P.L.v[i]);
         }
       }
     }

@@ -83,6 +83,24 @@ struct Sampler {
     dimension += 2;
     return p;
   }
+  /// The next n 2D values, as n calls of get_2d give them. The path lanes take a bounce's
+  /// pairs at once: one test that they lie in the computed batch instead of a test and
+  /// the dimension's bookkeeping per pair (~20 instructions each).
+  KAURI_HOST_DEVICE void get_2d_n(Vec2* u, int n) {
+    if (type == SamplerType::Independent) {
+      for (int i = 0; i < n; ++i) u[i] = get_2d();
+      return;
+    }
+    dimension += dimension & 1;
+    const uint32_t k = dimension >> 1;
+    dimension += 2 * uint32_t(n);
+    if (batch_first == ~0u || k < batch_first || k + uint32_t(n) > batch_first + kSobolBatch) {
+      for (int i = 0; i < n; ++i) u[i] = pair(k + uint32_t(i));  // crosses into the next batch
+      return;
+    }
+    const Float* x = batch + (k - batch_first);
+    for (int i = 0; i < n; ++i) u[i] = {x[i], x[kSobolBatch + i]};
+  }
   /// Point `k` of the current sample's padded sequence (owen_sobol_2d, bit for bit),
   /// from the batch of kSobolBatch pairs holding it.
   KAURI_HOST_DEVICE Vec2 pair(uint32_t k) {
