@@ -531,7 +531,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       const int hmat = material[k], hlight = light[k];
       const bool scatters = hmat >= 0 && P.depth[k] < cfg.max_depth && !P.last_segment[k];
       // The bounce's pairs at once: the light choice's, the lobe and roulette's, the
-      // direction's (get_2d_n).
+      // direction's (get_2d_n). trace_path draws all three wherever the vertex scatters,
+      // at a BSDF without lobes too (its sample then fails).
       Vec2 u[3];
       if (scatters) samplers[k].get_2d_n(u, 3);
       path_detail::LightChoice lc;
@@ -577,8 +578,6 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         out.albedo_set = true;
       }
       if (!scatters || !(w_b > 0)) {  // a budget is spent, or a BSDF without lobes
-        // trace_path takes the light choice's pair alone before it ends such a path.
-        if (scatters && samplers[k].type != SamplerType::Independent) samplers[k].dimension -= 4;
         P.alive[k] = 0;
         continue;
       }

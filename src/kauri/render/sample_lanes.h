@@ -118,7 +118,7 @@ inline F32x8 sample_wavelength(const WavelengthDistribution& d, F32x8 u, F32x8* 
 
 /// The CIE table as rows {x̄, ȳ, z̄ at knot i, x̄, ȳ, z̄ at knot i + 1}: a lane's six values in
 /// one 32-byte row, 8 lanes loaded and transposed (lanes::load_columns8) instead of six
-/// gathers (microcoded, slower than row loads on the Zen 4s and Xeons these runs meet).
+/// gathers (microcoded: ~2.5x slower than row loads on the Zen 4 of docs/benchmarks.md).
 struct alignas(32) CieRow {
   float v[8];
 };
@@ -139,7 +139,7 @@ inline Vec3x8 cie_xyz_bar(F32x8 lambda) {
   const Float last = Float(tables::kCieSamples - 1);
   const I32x8 valid = (t >= 0) & ~(t > last);
   I32x8 i = t >= last ? I32x8{} + (tables::kCieSamples - 2) : __builtin_convertvector(t, I32x8);
-  i = valid ? i : I32x8{};  // in range for the gathers; the lane is zeroed below
+  i = valid ? i : I32x8{};  // a row in the table; the lane is zeroed below
   const F32x8 f = t - __builtin_convertvector(i, F32x8);
   __m256 row[8];
   lanes::load_columns8(cie_rows()[0].v, 8, i, 0, row);
