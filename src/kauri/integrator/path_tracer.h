@@ -98,8 +98,10 @@ KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel&
 /// otherwise carries it at every pixel it covers; the hangar's lamp edges: 20% more error
 /// than an RGB renderer's, Mitsuba's spectral variant 120%). Exact for the first vertex
 /// only: there the throughput is 1 and the MIS weight 1 at every wavelength. Lights whose
-/// radiance is not their `Le` (material EDFs, environment images) keep the spectral
-/// estimate: false.
+/// radiance is not their `Le` (material EDFs) keep the spectral estimate: false. An
+/// environment image adds its texels' colours, blended as their spectra are
+/// (env_texel_rgb): the colours the spectra are fitted to, so a backdrop of sky shows no
+/// colour noise, as in an RGB renderer.
 KAURI_HOST_DEVICE inline bool add_area_seen_directly(const Light& l, Normal3 n, Vec3 wo, Vec3* rgb) {
   if (l.material >= 0) return false;
   if (l.two_sided || dot(n, wo) > 0) *rgb += l.Le_rgb;
@@ -111,6 +113,7 @@ KAURI_HOST_DEVICE inline bool add_seen_directly(const Light& l, Vec3 d, Vec3* rg
     case LightType::Distant:
       if (distant_cone_contains(l, d)) *rgb += l.Le_rgb / distant_cone_projected_solid_angle(l);
       return true;
+    case LightType::EnvMap: *rgb += env_texel_rgb(l, direction_to_latlong(l.frame.to_local(d))); return true;
     default: return false;
   }
 }

@@ -64,6 +64,9 @@ struct Light {
   Float scene_radius = 1;
   // Environment image (lat-long, row-major, width × height) and its sampling density.
   const EnvTexel* texels = nullptr;
+  // The image's texels as output-space colours (the RGB each texel's spectrum is fitted to,
+  // × intensity): what a camera ray that escapes adds, bilinear, without colour noise.
+  const Vec3* texel_rgb = nullptr;
   DenselySampled illuminant{nullptr, 360, 1, 0};  // working-space white (Y = 1)
   int width = 0, height = 0;
   Distribution2D distribution;   // LightDensity::Complete
@@ -93,10 +96,10 @@ KAURI_HOST_DEVICE inline Vec3 latlong_to_direction(Vec2 uv, Float* sin_theta = n
 }
 
 namespace light_detail {
-/// Texel (x, y)'s radiance at the path's wavelengths, given the illuminant there (`I`).
-KAURI_HOST_DEVICE inline SampledSpectrum env_texel_spectrum(const Light& l, int x, int y, const SampledWavelengths& lambda,
+/// Texel `index`'s (row-major) radiance at the path's wavelengths, given the illuminant there (`I`).
+KAURI_HOST_DEVICE inline SampledSpectrum env_texel_spectrum(const Light& l, int index, const SampledWavelengths& lambda,
                                                             const SampledSpectrum& I) {
-  const EnvTexel& t = l.texels[size_t(y) * size_t(l.width) + size_t(x)];
+  const EnvTexel& t = l.texels[index];
   if (t.scale == 0) return SampledSpectrum(0);
   return sample_sigmoid(SigmoidPolynomial{t.c0, t.c1, t.c2}, lambda) * t.scale * I;
 }
@@ -138,11 +141,13 @@ inline SampledSpectrum env_blend_lanes(const EnvTexel* const t[4], const Float w
 #endif
 }  // namespace light_detail
 
-/// Environment radiance at lat-long `uv`: bilinear between texel centres (u wraps
-/// around, v clamps at the poles), interpolating the texels' spectra. The sampling
-/// density is piecewise constant over texels of a dilated image (scene_compile.cpp), so
-/// it is positive wherever this is.
-KAURI_HOST_DEVICE inline SampledSpectrum env_texel_radiance(const Light& l, Vec2 uv, const SampledWavelengths& lambda) {
+/// The four texels lat-long `uv` blends and their weights: bilinear between texel centres
+/// (u wraps around, v clamps at the poles).
+struct EnvBilinear {
+  int index[4];  // row-major texel numbers
+  Float w[4];
+};
+KAURI_HOST_DEVICE inline EnvBilinear env_bilinear(const Light& l, Vec2 uv) {
   Float fx = uv.x * Float(l.width) - Float(0.5), fy = uv.y * Float(l.height) - Float(0.5);
   Float x0f = std::floor(fx), y0f = std::floor(fy);
   Float dx = fx - x0f, dy = fy - y0f;
@@ -150,19 +155,35 @@ KAURI_HOST_DEVICE inline SampledSpectrum env_texel_radiance(const Light& l, Vec2
   // uv.x ∈ [0, 1] puts x0 in [−1, width − 1]: repeat_index wraps it without a division.
   auto clamp_y = [&](int y) { return y < 0 ? 0 : (y >= l.height ? l.height - 1 : y); };
   int xa = repeat_index(x0, l.width), xb = repeat_index(x0 + 1, l.width), ya = clamp_y(y0), yb = clamp_y(y0 + 1);
+  return {{ya * l.width + xa, ya * l.width + xb, yb * l.width + xa, yb * l.width + xb},
+          {(1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy}};
+}
+
+/// Environment radiance at lat-long `uv` (env_bilinear), interpolating the texels' spectra.
+/// The sampling density is piecewise constant over texels of a dilated image
+/// (scene_compile.cpp), so it is positive wherever this is.
+KAURI_HOST_DEVICE inline SampledSpectrum env_texel_radiance(const Light& l, Vec2 uv, const SampledWavelengths& lambda) {
+  const EnvBilinear b = env_bilinear(l, uv);
   const SampledSpectrum I = sample_dense(l.illuminant, lambda);  // once for the four texels
-  const Float w[4] = {(1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy};
-  const int tx[4] = {xa, xb, xa, xb}, ty[4] = {ya, ya, yb, yb};
 #if KAURI_LANES_AVX2 && !defined(__CUDA_ARCH__)
   const EnvTexel* t[4];
-  for (int k = 0; k < 4; ++k) t[k] = &l.texels[size_t(ty[k]) * size_t(l.width) + size_t(tx[k])];
-  return light_detail::env_blend_lanes(t, w, lambda) * I;
+  for (int k = 0; k < 4; ++k) t[k] = &l.texels[b.index[k]];
+  return light_detail::env_blend_lanes(t, b.w, lambda) * I;
 #else
   SampledSpectrum s(0);
   for (int k = 0; k < 4; ++k)
-    if (w[k] > 0) s += light_detail::env_texel_spectrum(l, tx[k], ty[k], lambda, I) * w[k];
+    if (b.w[k] > 0) s += light_detail::env_texel_spectrum(l, b.index[k], lambda, I) * b.w[k];
   return s;
 #endif
+}
+
+/// The output-space colour at lat-long `uv`: the texels' colours blended as
+/// env_texel_radiance blends their spectra (the same texels and weights).
+KAURI_HOST_DEVICE inline Vec3 env_texel_rgb(const Light& l, Vec2 uv) {
+  const EnvBilinear b = env_bilinear(l, uv);
+  Vec3 rgb{0, 0, 0};
+  for (int k = 0; k < 4; ++k) rgb += l.texel_rgb[b.index[k]] * b.w[k];
+  return rgb;
 }
 
 /// Whether unit direction `w` lies in a distant light's cone (cos_max < 1). For small

@@ -236,6 +236,7 @@ class CompiledScene {
   std::vector<Light> lights_;
   std::vector<int> infinite_lights_;
   std::vector<std::vector<EnvTexel>> env_texels_;
+  std::vector<std::vector<Vec3>> env_texel_rgb_;  // per environment image: its texels' colours
   std::vector<std::unique_ptr<Distribution2DStorage>> env_distributions_;
   Distribution1DStorage light_distribution_;
   LightTreeStorage light_tree_;                   // finite lights (light_tree.h)

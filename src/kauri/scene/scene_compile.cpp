@@ -277,6 +277,7 @@ void CompiledScene::build_lights(const Scene& scene, const RGBColorSpace& cs) {
         l.frame.z = normalize(rot.vector({0, 0, 1}));
         const int w = d.width, h = d.height;
         std::vector<EnvTexel> texels(size_t(w) * size_t(h));
+        std::vector<Vec3> texel_rgb(texels.size());
         std::vector<Float> lum(texels.size()), weight(texels.size());
         for (size_t i = 0; i < texels.size(); ++i) {
           Vec3 rgb{d.image[3 * i], d.image[3 * i + 1], d.image[3 * i + 2]};
@@ -284,6 +285,11 @@ void CompiledScene::build_lights(const Scene& scene, const RGBColorSpace& cs) {
           EnvTexel t{0, 0, 0, 0};
           if (s.type == SpectrumType::RGBIlluminant) t = {s.rgb.scale, s.rgb.poly.c0, s.rgb.poly.c1, s.rgb.poly.c2};
           texels[i] = t;
+          // The colour the spectrum is fitted to: a camera ray adds it as is. Integrating each texel's spectrum (as Le_rgb is) would cost ~1400
+          // sigmoids a texel, minutes for a 16k map; the fit's own error is what separates the
+          // two (≤ 0.04% over linear-sRGB colours; more for colours beyond the spectral
+          // locus, which no spectrum of the fit has: tests/cpp/test_lights.cpp).
+          texel_rgb[i] = rgb * d.emission.intensity;
           lum[i] = fmax_(cs.to_xyz(rgb).y, 0);
         }
         // Importance ∝ luminance × sinθ, dilated to cover the bilinear lookup.
@@ -299,7 +305,9 @@ void CompiledScene::build_lights(const Scene& scene, const RGBColorSpace& cs) {
         l.illuminant = *cs.illuminant;
         env_texels_.push_back(std::move(texels));
         l.texels = env_texels_.back().data();
-        bytes_ += env_texels_.back().size() * sizeof(EnvTexel) + env_distributions_.back()->bytes();
+        env_texel_rgb_.push_back(std::move(texel_rgb));
+        l.texel_rgb = env_texel_rgb_.back().data();
+        bytes_ += env_texels_.back().size() * (sizeof(EnvTexel) + sizeof(Vec3)) + env_distributions_.back()->bytes();
         break;
       }
       default: break;
