@@ -65,6 +65,22 @@ inline void load_columns8(const float* table, int stride, I32x8 index, int c, __
   for (int k = 0; k < 8; ++k) column[k] = _mm256_load_ps(table + size_t(row[k]) * size_t(stride) + 8 * c);
   transpose8x8(column);
 }
+/// The 4 floats of the 8 rows index[0 … 7] of a table of 16-byte rows (unaligned) as 4
+/// columns: column[j] lane k = table[4 · index[k] + j]. 8 loads and an 8 × 4 transpose in
+/// place of 4 gathers.
+inline void load_rows4(const float* table, I32x8 index, __m256 column[4]) {
+  alignas(32) int32_t row[8];
+  __builtin_memcpy(row, &index, sizeof row);
+  auto rows = [&](int a) {  // rows a and a + 4 in the two 128-bit halves
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(table + 4 * size_t(row[a]))),
+                                _mm_loadu_ps(table + 4 * size_t(row[a + 4])), 1);
+  };
+  const __m256 t0 = rows(0), t1 = rows(1), t2 = rows(2), t3 = rows(3);
+  const __m256 u0 = _mm256_unpacklo_ps(t0, t1), u1 = _mm256_unpackhi_ps(t0, t1);
+  const __m256 u2 = _mm256_unpacklo_ps(t2, t3), u3 = _mm256_unpackhi_ps(t2, t3);
+  column[0] = _mm256_shuffle_ps(u0, u2, 0x44), column[1] = _mm256_shuffle_ps(u0, u2, 0xEE);
+  column[2] = _mm256_shuffle_ps(u1, u3, 0x44), column[3] = _mm256_shuffle_ps(u1, u3, 0xEE);
+}
 }  // namespace kauri::lanes
 #else
 #define KAURI_LANES_AVX2 0

@@ -47,6 +47,7 @@ LaneTriangles LaneTrianglesStore::view() const {
   t.triangles = triangles.data();
   t.uv = uv.empty() ? nullptr : uv.data();
   t.normals = normals.empty() ? nullptr : normals.data();
+  t.env_pdf = env_pdf.data();
   t.any_quads = any_quads;
   return t;
 }
@@ -82,6 +83,21 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
     for (int a = 0; a < 3; ++a) r.p0[a] = l.p0[a], r.p1[a] = l.p1[a], r.p2[a] = l.p2[a], r.n[a] = l.n[a];
     r.inv_area = 1 / l.area;
     r.two_sided = l.two_sided ? -1 : 0;
+  }
+  // Environment images: Distribution2D::pdf of next-event estimation's density per texel,
+  // one table read instead of a row pointer and then its value.
+  t.env_pdf.assign(size_t(std::max(s.n_lights, 1)), nullptr);
+  for (int i = 0; i < s.n_lights; ++i) {
+    const Light& l = s.lights[i];
+    if (l.type != LightType::EnvMap || !has_light_density(l, kNextEventDensity)) continue;
+    const Distribution2D& d = env_distribution(l, kNextEventDensity);
+    std::vector<float> table(size_t(d.nu) * size_t(d.nv));
+    for (int v = 0; v < d.nv; ++v)
+      for (int u = 0; u < d.nu; ++u)
+        table[size_t(v) * size_t(d.nu) + size_t(u)] =
+            d.marginal.integral > 0 ? d.conditional[v].func[u] / d.marginal.integral : 0;  // as pdf() divides
+    t.env_pdf_tables.push_back(std::move(table));
+    t.env_pdf[size_t(i)] = t.env_pdf_tables.back().data();
   }
   const size_t rows = std::max<size_t>(count, 1);
   t.triangles.assign(rows, LaneTriangleRow{});

@@ -104,6 +104,9 @@ struct LaneTriangles {
   const LaneTriangleRow* triangles = nullptr;
   const LaneUvRow* uv = nullptr;              // null: no mesh's material reads uv
   const LaneNormalRow* normals = nullptr;     // null: no mesh has shading normals
+  // Per scene light: an environment image's next-event density per texel (env_pdf's
+  // Distribution2D::pdf, row-major), or null (other lights, or no density).
+  const float* const* env_pdf = nullptr;
   bool any_quads = false;
 };
 /// Host storage of a LaneTriangles (build_lane_triangles).
@@ -113,6 +116,8 @@ struct LaneTrianglesStore {
   std::vector<LaneTriangleRow> triangles;
   std::vector<LaneUvRow> uv;
   std::vector<LaneNormalRow> normals;
+  std::vector<std::vector<float>> env_pdf_tables;
+  std::vector<const float*> env_pdf;  // per scene light, into env_pdf_tables
   bool any_quads = false;
   LaneTriangles view() const;
 };
@@ -374,6 +379,8 @@ inline void put(void* dst, const T& v) {
 }
 }  // namespace path_lanes_detail
 
+#include "kauri/integrator/path_lanes_env.inl"
+
 /// trace_path() for the n ≤ kPathLanes paths of a group, in vector lanes: camera rays
 /// `rays`, their closest hits `primary` / `primary_found`, wavelengths, samplers (left at
 /// the dimension trace_path leaves each) and outputs as trace_path's. The scene must be
@@ -418,6 +425,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     put(r->mask, ~I32x8{}), put(r->id, I32x8{}), put(r->flags, I32x8{});
   }
   alignas(32) int32_t valid[W];
+  LaneSpectra spectra;  // the wavelengths and illuminant as columns, for environment images
   const bool tree = cfg.light_tree && s.light_tree.n_nodes > 0;  // choose_light reads the point and normal
   const size_t n_direct = accel.direct_shape_count();
   const DirectShape* direct_shapes = accel.direct_shapes();
@@ -463,13 +471,25 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     }
     ray_count += alive & 1;
     const I32x8 escaped = alive & (geom == -1);
-    if (s.n_infinite_lights > 0 && any(escaped))  // the environment, lane by lane (trace_path)
-      for (int bits = mask_bits(escaped); bits;) {
-        const int k = next_lane(&bits);
-        const SampledSpectrum L =
-            path_detail::escaped_radiance(s, cfg, P.state(k), lane(d, k), lambda[k], &outs[k].rgb_exact);
-        P.add(k, L, ContributionKind::Emission);
+    if (s.n_infinite_lights > 0 && any(escaped)) {
+      // The infinite lights as trace_path's escaped_radiance: an environment image across
+      // the lanes for the paths that have bounced, the rest lane by lane.
+      const I32x8 bounced = escaped & (load(P.depth) > 0);
+      for (int i = 0; i < s.n_infinite_lights; ++i) {
+        const int li = s.infinite_lights[i];
+        const Light& l = s.lights[li];
+        const bool image = l.type == LightType::EnvMap;
+        for (int bits = mask_bits(image ? escaped & ~bounced : escaped); bits;) {
+          const int k = next_lane(&bits);
+          P.add(k, path_detail::escaped_radiance_of(s, cfg, P.state(k), li, lane(d, k), lambda[k], &outs[k].rgb_exact),
+                ContributionKind::Emission);
+        }
+        if (image && any(bounced)) {
+          if (!spectra.ready) spectra.prepare(lambda, n, l.illuminant);
+          add_env_escaped(s, l, li, tris.env_pdf[li], d, spectra, bounced, P);
+        }
       }
+    }
     alive &= ~escaped;  // an escaped path ends
     store(alive, P.alive);
     if (!any(alive)) break;

@@ -118,23 +118,27 @@ KAURI_HOST_DEVICE inline bool add_seen_directly(const Light& l, Vec3 d, Vec3* rg
   }
 }
 
-/// What a path of state `st` that escapes along `d` receives from the infinite lights:
+/// What a path of state `st` that escapes along `d` receives from infinite light `li`:
 /// β · Le · w, MIS-weighted against next-event estimation. A camera ray (depth 0) gives
-/// the lights add_seen_directly takes to *rgb_exact instead. Shared by trace_path and the
-/// path lanes (one escaped lane at a time).
+/// the lights add_seen_directly takes to *rgb_exact instead.
+KAURI_HOST_DEVICE inline SampledSpectrum escaped_radiance_of(const SceneView& s, const IntegratorSettings& cfg,
+                                                            const PathState& st, int li, Vec3 d,
+                                                            const SampledWavelengths& lambda, Vec3* rgb_exact) {
+  if (st.depth == 0 && add_seen_directly(s.lights[li], d, rgb_exact)) return SampledSpectrum(0);
+  Float pdf_light = 0;
+  Float* pdf = emission_needs_mis(st) ? &pdf_light : nullptr;
+  const SampledSpectrum Le = infinite_light_Le_pdf(s.lights[li], d, lambda, kNextEventDensity, pdf);
+  if (Le.is_black()) return Le;
+  return st.beta * Le * emitter_mis_weight_given_pdf(s, cfg, st, li, pdf_light);
+}
+/// escaped_radiance_of summed over the infinite lights. Shared by trace_path and the path
+/// lanes (lane by lane, for the lights they do not take across the lanes).
 KAURI_HOST_DEVICE inline SampledSpectrum escaped_radiance(const SceneView& s, const IntegratorSettings& cfg,
                                                          const PathState& st, Vec3 d, const SampledWavelengths& lambda,
                                                          Vec3* rgb_exact) {
   SampledSpectrum L(0);
-  for (int i = 0; i < s.n_infinite_lights; ++i) {
-    const int li = s.infinite_lights[i];
-    if (st.depth == 0 && add_seen_directly(s.lights[li], d, rgb_exact)) continue;
-    Float pdf_light = 0;
-    Float* pdf = emission_needs_mis(st) ? &pdf_light : nullptr;
-    const SampledSpectrum Le = infinite_light_Le_pdf(s.lights[li], d, lambda, kNextEventDensity, pdf);
-    if (Le.is_black()) continue;
-    L += st.beta * Le * emitter_mis_weight_given_pdf(s, cfg, st, li, pdf_light);
-  }
+  for (int i = 0; i < s.n_infinite_lights; ++i)
+    L += escaped_radiance_of(s, cfg, st, s.infinite_lights[i], d, lambda, rgb_exact);
   return L;
 }
 

@@ -1,0 +1,116 @@
+// Environment images across the path lanes (included by path_lanes.h): what a path that
+// escapes after its first bounce receives from an image (escaped_radiance_of: its
+// radiance and next-event density along the direction, the MIS weight), for 8 lanes at
+// once. Lane by lane this was the environment scene's largest cost after Embree: the
+// lat-long angles, the bilinear texel lookup and the density were ~17% of its
+// instructions (callgrind, 32 × 32, 32 spp), a scalar chain per escaped path. The same
+// operations as the scalar functions (light.h, math.h), so the lanes' images equal
+// trace_path's up to rounding (tests/cpp/test_path_lanes.cpp). Included inside namespace
+// kauri, after the lanes' vector helpers.
+#pragma once
+
+namespace path_lanes_detail {
+
+/// atan2_poly over lanes (the same polynomial, fold and quadrant steps).
+inline F32x8 atan2_poly(F32x8 y, F32x8 x) {
+  const F32x8 ax = vabs(x), ay = vabs(y);
+  const I32x8 x_larger = ax > ay;
+  const F32x8 hi = x_larger ? ax : ay, lo = x_larger ? ay : ax;
+  const F32x8 r = hi > 0 ? lo / (hi > 0 ? hi : splat(1)) : F32x8{};
+  const I32x8 fold = r > Float(0.41421356f);  // tan(π/8)
+  const F32x8 z = fold ? (r - 1) / (r + 1) : r;
+  const F32x8 z2 = z * z;
+  const F32x8 p =
+      z2 * (-0.33333316f + z2 * (0.19998547f + z2 * (-0.14244778f + z2 * (0.10602067f + z2 * -0.06097298f))));
+  F32x8 a = z + z * p + (fold ? splat(0.78539816f) : F32x8{});
+  a = ay > ax ? Float(1.57079633f) - a : a;
+  a = x < 0 ? Float(3.14159265f) - a : a;
+  return (F32x8)((I32x8)a ^ ((I32x8)y & int32_t(0x80000000u)));  // −a where y's sign bit is set
+}
+/// acos_poly over lanes.
+inline F32x8 acos_poly(F32x8 x) {
+  x = vmin(vmax(x, splat(-1)), splat(1));
+  return atan2_poly(vsqrt((1 - x) * (1 + x)), x);
+}
+
+/// The path's wavelengths and the working space's illuminant at them, as columns (wavelength
+/// i of every lane in [i]): computed once per group, when a path first escapes after a bounce.
+struct LaneSpectra {
+  bool ready = false;
+  F32x8 lambda[kSpectrumSamples], illuminant[kSpectrumSamples];
+  void prepare(const SampledWavelengths* lambdas, int n, const DenselySampled& I) {
+    alignas(32) float lam[kSpectrumSamples][W], ill[kSpectrumSamples][W];
+    for (int k = 0; k < W; ++k) {
+      const SampledWavelengths& w = lambdas[k < n ? k : 0];
+      const SampledSpectrum v = sample_dense(I, w);
+      for (int i = 0; i < kSpectrumSamples; ++i) lam[i][k] = w.lambda[i], ill[i][k] = v[i];
+    }
+    for (int i = 0; i < kSpectrumSamples; ++i) lambda[i] = load(lam[i]), illuminant[i] = load(ill[i]);
+    ready = true;
+  }
+};
+
+/// escaped_radiance_of for environment image `l` (light `li`) over the lanes in `m`, whose
+/// paths have bounced at least once (depth > 0: the MIS weight applies; the lanes have no
+/// specular bounces): Le (env_texel_radiance) and the density (env_pdf, from `pdf_table`:
+/// LaneTriangles::env_pdf, null for none) along `w`, then β · Le · w_MIS added to the
+/// paths as emission (Paths::add).
+inline void add_env_escaped(const SceneView& s, const Light& l, int li, const float* pdf_table, const V3& w,
+                            const LaneSpectra& spectra, I32x8 m, Paths& P) {
+  // env_direction: lat-long coordinates and sin θ of the local direction.
+  const V3 d{dot(w, splat3(l.frame.x)), dot(w, splat3(l.frame.y)), dot(w, splat3(l.frame.z))};
+  F32x8 u = atan2_poly(d.x, -d.z) * kInv2Pi;
+  u = u < 0 ? u + 1 : u;
+  const F32x8 v = acos_poly(d.y) * kInvPi;
+  const F32x8 sin_theta = vsqrt(d.x * d.x + d.z * d.z);
+  // env_pdf (Distribution2D::pdf: the texel's value, its indices clamped).
+  F32x8 pdf{};
+  if (pdf_table) {
+    const Distribution2D& dist = env_distribution(l, kNextEventDensity);
+    I32x8 iu = __builtin_convertvector(u * Float(dist.nu), I32x8), iv = __builtin_convertvector(v * Float(dist.nv), I32x8);
+    iu = iu < 0 ? I32x8{} : (iu >= dist.nu ? I32x8{} + (dist.nu - 1) : iu);
+    iv = iv < 0 ? I32x8{} : (iv >= dist.nv ? I32x8{} + (dist.nv - 1) : iv);
+    const I32x8 cell = m ? iv * dist.nu + iu : I32x8{};
+    alignas(32) int32_t c[W];
+    alignas(32) float value[W];
+    store(cell, c);
+    for (int k = 0; k < W; ++k) value[k] = pdf_table[c[k]];
+    const F32x8 pdf_uv = load(value);
+    pdf = sin_theta == 0 ? F32x8{} : pdf_uv / (2 * kPi * kPi * (sin_theta == 0 ? splat(1) : sin_theta));
+  }
+  // env_bilinear: the four texels and their weights.
+  const F32x8 fx = u * Float(l.width) - Float(0.5), fy = v * Float(l.height) - Float(0.5);
+  const F32x8 x0f = _mm256_floor_ps(fx), y0f = _mm256_floor_ps(fy);
+  const F32x8 dx = fx - x0f, dy = fy - y0f;
+  const I32x8 x0 = __builtin_convertvector(x0f, I32x8), y0 = __builtin_convertvector(y0f, I32x8);
+  auto wrap_x = [&](I32x8 x) { return x < 0 ? x + l.width : (x >= l.width ? x - l.width : x); };
+  auto clamp_y = [&](I32x8 y) { return y < 0 ? I32x8{} : (y >= l.height ? I32x8{} + (l.height - 1) : y); };
+  const I32x8 xa = wrap_x(x0), xb = wrap_x(x0 + 1), ya = clamp_y(y0) * l.width, yb = clamp_y(y0 + 1) * l.width;
+  const I32x8 texel[4] = {ya + xa, ya + xb, yb + xa, yb + xb};
+  const F32x8 weight[4] = {(1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy};
+  // Σ_k w_k scale_k s_k(λ) (env_blend_lanes per lane), times the illuminant.
+  F32x8 Le[kSpectrumSamples] = {};
+  for (int k = 0; k < 4; ++k) {
+    __m256 t[4];  // scale, c0, c1, c2 of each lane's texel k
+    lanes::load_rows4(&l.texels[0].scale, m ? texel[k] : I32x8{}, t);
+    const F32x8 sw = F32x8(t[0]) * weight[k];
+    for (int i = 0; i < kSpectrumSamples; ++i) {
+      const F32x8 lam = spectra.lambda[i];
+      F32x8 x = (F32x8(t[1]) * lam + F32x8(t[2])) * lam + F32x8(t[3]);
+      x = vmin(vmax(x, splat(-0x1p60f)), splat(0x1p60f));
+      const F32x8 sig = Float(0.5) + x / (2 * vsqrt(x * x + 1));
+      Le[i] += sig * sw;
+    }
+  }
+  // The MIS weight against next-event estimation, and Paths::add (emission after one
+  // bounce is direct).
+  const F32x8 w_mis = power_heuristic(load(P.prev_pdf), s.light_distribution.discrete_pmf(li) * pdf);
+  const I32x8 direct = load(P.depth) <= 1;
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    const F32x8 add = m ? load(P.beta.v[i]) * (Le[i] * spectra.illuminant[i]) * w_mis : F32x8{};
+    store(load(P.L_direct.v[i]) + (direct ? add : F32x8{}), P.L_direct.v[i]);
+    store(load(P.L.v[i]) + (direct ? F32x8{} : add), P.L.v[i]);
+  }
+}
+
+}  // namespace path_lanes_detail
