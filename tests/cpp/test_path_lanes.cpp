@@ -10,6 +10,7 @@
 
 #include "kauri/integrator/path_lanes.h"
 #include "kauri/render/renderer.h"
+#include "kauri/sampler/rng.h"
 #include "kauri/scene/scene.h"
 
 namespace kauri {
@@ -200,6 +201,87 @@ TEST(PathLanes, OnlyLambertSurfacesTriangleAndInfiniteLightsRunInLanes) {
     s.add_light(p);
   }));
 }
+
+#if KAURI_PATH_LANES
+// The environment image across the lanes (path_lanes_env.inl) against the scalar functions
+// lane by lane: next-event samples (sample_light: direction, density, radiance) for
+// stratified 2D samples, including u at the cells' edges where the scalar sampler nudges
+// x back into its bin, and the radiance and density along escaped directions
+// (infinite_light_Le_pdf).
+TEST(PathLanes, EnvironmentImageAcrossTheLanesMatchesTheScalarFunctions) {
+  using namespace path_lanes_detail;
+  Scene scene;
+  add_box(scene, false, false, false, true);
+  const auto c = scene.compile(8, 8);
+  const SceneView& v = c->view();
+  const LaneTrianglesStore store = build_lane_triangles(v, {});
+  int li = -1;
+  for (int i = 0; i < v.n_lights; ++i)
+    if (v.lights[i].type == LightType::EnvMap) li = i;
+  ASSERT_GE(li, 0);
+  const Light& l = v.lights[li];
+  const LaneEnvTables& t = store.env[size_t(li)];
+  ASSERT_NE(t.pdf, nullptr);
+  SampledWavelengths lambda[W];
+  for (int k = 0; k < W; ++k) lambda[k] = SampledWavelengths::sample_visible((Float(k) + 0.3f) / W);
+  LaneSpectra spectra;
+  spectra.prepare(lambda, W, l.illuminant);
+  auto near = [](Float a, Float b) { return std::fabs(a - b) <= 2e-5f * (1 + std::fabs(b)); };
+  int samples = 0, nudged_checked = 0;
+  for (int round = 0; round < 64; ++round) {
+    alignas(32) float ux[W], uy[W];
+    for (int k = 0; k < W; ++k) {
+      const int j = round * W + k;
+      // Even rounds: a 2D grid; odd rounds: exactly on the marginal's and a row's cdf steps.
+      ux[k] = (Float(j % 23) + 0.5f) / 23, uy[k] = (Float(j / 23 % 29) + 0.5f) / 29;
+      if (round % 2) {
+        const int row = j % t.nv;
+        uy[k] = t.marginal_cdf[row];
+        ux[k] = t.conditional_cdf[row * (t.nu + 1) + j % t.nu];
+        ++nudged_checked;
+      }
+    }
+    V3 wi;
+    F32x8 pdf, Le[kSpectrumSamples];
+    sample_env(l, t, load(ux), load(uy), ~I32x8{}, spectra, &wi, &pdf, Le);
+    for (int k = 0; k < W; ++k) {
+      const LightSample ls = sample_light(l, Point3{0, 1, 0}, Vec2{ux[k], uy[k]}, lambda[k], kNextEventDensity, nullptr);
+      EXPECT_TRUE(near(pdf[k], ls.pdf)) << "round " << round << " lane " << k << ": " << pdf[k] << " vs " << ls.pdf;
+      if (!(ls.pdf > 0)) continue;
+      ++samples;
+      EXPECT_TRUE(near(wi.x[k], ls.wi.x) && near(wi.y[k], ls.wi.y) && near(wi.z[k], ls.wi.z)) << "round " << round;
+      for (int i = 0; i < kSpectrumSamples; ++i) EXPECT_TRUE(near(Le[i][k], ls.L[i])) << Le[i][k] << " vs " << ls.L[i];
+    }
+  }
+  EXPECT_GT(samples, 250);  // the MIS-compensated density is zero below the mean: those samples fail
+  EXPECT_GT(nudged_checked, 200);
+  // Escaped directions: the radiance and density added by add_env_escaped, through a path
+  // state of β = 1 that bounced once from a density of 1 (w_MIS = 1 / (1 + (pmf · pdf)²)).
+  PCG32 rng(5, 9);
+  for (int round = 0; round < 32; ++round) {
+    Paths P{};
+    V3Lanes dir;
+    for (int k = 0; k < W; ++k) {
+      const Vec3 w = sample_uniform_sphere({rng.next_float(), rng.next_float()});
+      dir.set(k, w);
+      P.depth[k] = 2, P.prev_pdf[k] = 1;
+      P.beta.set(k, SampledSpectrum(1));
+      P.L.set(k, SampledSpectrum(0)), P.L_direct.set(k, SampledSpectrum(0));
+    }
+    add_env_escaped(v, l, li, t, dir.load(), spectra, ~I32x8{}, P);
+    for (int k = 0; k < W; ++k) {
+      Float pdf = 0;
+      const SampledSpectrum Le = infinite_light_Le_pdf(l, dir.get(k), lambda[k], kNextEventDensity, &pdf);
+      const Float pl = v.light_distribution.discrete_pmf(li) * pdf;
+      const Float w_mis = 1 / (1 + pl * pl);
+      for (int i = 0; i < kSpectrumSamples; ++i) {
+        EXPECT_TRUE(near(P.L.v[i][k], Le[i] * w_mis)) << P.L.v[i][k] << " vs " << Le[i] * w_mis;
+        EXPECT_EQ(P.L_direct.v[i][k], 0);  // after two bounces: indirect
+      }
+    }
+  }
+}
+#endif
 
 // Meshes beyond kPathLanesMaxTriangles take one path at a time (the lanes' tables would
 // double the scene's memory).

@@ -38,6 +38,7 @@
 #include <embree3/rtcore.h>
 
 #include <cstddef>
+#include <deque>
 #include <vector>
 
 #include "kauri/accel/embree_accel.h"
@@ -98,15 +99,26 @@ struct alignas(64) LaneLightRow {
   int32_t two_sided;  // −1: emits on both sides
   float unused[2];
 };
+/// An environment image's next-event density (env_distribution for kNextEventDensity) as
+/// flat tables, the conditional rows one after another, for lookups and samples across the
+/// lanes (path_lanes_env.inl). `pdf` null: no density (the light is not sampled).
+struct LaneEnvTables {
+  const float* pdf = nullptr;                   // nv × nu: Distribution2D::pdf per cell
+  const float* marginal_cdf = nullptr;          // nv + 1
+  const float* marginal_func = nullptr;         // nv
+  const float* conditional_cdf = nullptr;       // nv × (nu + 1)
+  const float* conditional_func = nullptr;      // nv × nu
+  const float* conditional_integral = nullptr;  // nv
+  float marginal_integral = 0;
+  int nu = 0, nv = 0;
+};
 struct LaneTriangles {
   const LaneShapeRow* shapes = nullptr;       // per root shape
   const LaneLightRow* lights = nullptr;       // per scene light
   const LaneTriangleRow* triangles = nullptr;
   const LaneUvRow* uv = nullptr;              // null: no mesh's material reads uv
   const LaneNormalRow* normals = nullptr;     // null: no mesh has shading normals
-  // Per scene light: an environment image's next-event density per texel (env_pdf's
-  // Distribution2D::pdf, row-major), or null (other lights, or no density).
-  const float* const* env_pdf = nullptr;
+  const LaneEnvTables* env = nullptr;         // per scene light (empty but for environment images)
   bool any_quads = false;
 };
 /// Host storage of a LaneTriangles (build_lane_triangles).
@@ -116,8 +128,8 @@ struct LaneTrianglesStore {
   std::vector<LaneTriangleRow> triangles;
   std::vector<LaneUvRow> uv;
   std::vector<LaneNormalRow> normals;
-  std::vector<std::vector<float>> env_pdf_tables;
-  std::vector<const float*> env_pdf;  // per scene light, into env_pdf_tables
+  std::deque<std::vector<float>> env_data;  // the arrays of `env` (a deque: they stay put)
+  std::vector<LaneEnvTables> env;            // per scene light
   bool any_quads = false;
   LaneTriangles view() const;
 };
@@ -298,6 +310,7 @@ struct Vertices {
   // An infinite light's sample (sample_light, lane by lane): −1 in light_dir, its direction
   // and solid-angle density; light_delta −1 for a distant light.
   alignas(32) int32_t light_dir[W], light_delta[W];
+  alignas(32) int32_t env[W];  // −1: an environment image's sample, taken across the lanes
   V3Lanes light_wi;
   alignas(32) float light_pdf[W];
   SpectrumLanes Le;
@@ -486,7 +499,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         }
         if (image && any(bounced)) {
           if (!spectra.ready) spectra.prepare(lambda, n, l.illuminant);
-          add_env_escaped(s, l, li, tris.env_pdf[li], d, spectra, bounced, P);
+          add_env_escaped(s, l, li, tris.env[li], d, spectra, bounced, P);
         }
       }
     }
@@ -544,7 +557,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     }
 
     // Per lane: emission, the light choice, the BSDF's albedo, the sampler's values.
-    store(I32x8{}, V.scatter), store(I32x8{}, V.nee);
+    store(I32x8{}, V.scatter), store(I32x8{}, V.nee), store(I32x8{}, V.env);
     for (int bits = mask_bits(alive); bits;) {
       const int k = next_lane(&bits);
       PathOutput& out = outs[k];
@@ -612,7 +625,12 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
           V.u_light[0][k] = lc.u.x, V.u_light[1][k] = lc.u.y;
           V.light_index[k] = lc.light;
           V.Le.set(k, light_emission(l, lambda[k], &P.emission[k]));
-        } else {  // an infinite light (path_lanes_supported): a direction, sampled here
+        } else if (l.type == LightType::EnvMap) {  // its direction across the lanes below
+          V.light_dir[k] = V.env[k] = -1;
+          V.light_delta[k] = 0;
+          V.u_light[0][k] = lc.u.x, V.u_light[1][k] = lc.u.y;
+          V.light_index[k] = lc.light;
+        } else {  // another infinite light (path_lanes_supported): a direction, sampled here
           const LightSample ls = sample_light(l, V.p.get(k), lc.u, lambda[k], kNextEventDensity, &P.emission[k]);
           V.light_dir[k] = -1;
           V.light_delta[k] = ls.delta ? -1 : 0;
@@ -646,6 +664,25 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
 
     // Next-event estimation (sample_direct): a point on the chosen triangle, or the
     // direction an infinite light's sample took.
+    const I32x8 env = load(V.env);
+    if (any(env)) {  // the environment images' samples (sample_env), one image at a time
+      const I32x8 which = load(V.light_index);
+      const F32x8 ux = load(V.u_light[0]), uy = load(V.u_light[1]);
+      for (I32x8 todo = env; any(todo);) {
+        int first_bits = mask_bits(todo);
+        const int li = which[next_lane(&first_bits)];
+        const I32x8 m = todo & (which == li);
+        const Light& l = s.lights[li];
+        if (!spectra.ready) spectra.prepare(lambda, n, l.illuminant);
+        V3 wi_env;
+        F32x8 pdf_env, Le_env[kSpectrumSamples];
+        sample_env(l, tris.env[li], ux, uy, m, spectra, &wi_env, &pdf_env, Le_env);
+        V.light_wi.store(select(m, wi_env, V.light_wi.load()));
+        store(m ? pdf_env : load(V.light_pdf), V.light_pdf);
+        for (int i = 0; i < kSpectrumSamples; ++i) store(m ? Le_env[i] : load(V.Le.v[i]), V.Le.v[i]);
+        todo &= ~m;
+      }
+    }
     const I32x8 nee = load(V.nee);
     if (any(nee)) {
       const I32x8 dir = nee & load(V.light_dir);
