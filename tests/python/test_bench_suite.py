@@ -73,6 +73,10 @@ def test_block_z_detects_a_bias_and_not_noise():
     z = suite.block_z(k, m)
     assert z.shape == (4, 4, 3) and np.abs(z).max() < 5
     assert np.abs(suite.block_z(k * 1.05, m)).max() > 5
+    # Blocks without noise (a sky seen directly): the fits' floor of 0.2% of the mean.
+    flat = np.ones((16, 36, 36, 3)) + 1e-7 * rng.standard_normal((16, 36, 36, 3))
+    assert np.abs(suite.block_z(flat * 1.001, flat)).max() < 5
+    assert np.abs(suite.block_z(flat * 1.005, flat)).max() > 5
     assert suite.mean_rel_diff(k.mean(0) * 1.02, k.mean(0)) == pytest.approx([0.02] * 3)
     # Per-render image means have sd 0.1 / 36 here: the SE of the difference of two 16-run means.
     assert suite.mean_rel_diff_se(k, m) == pytest.approx([0.1 / 36 * math.sqrt(2 / 16)] * 3, rel=0.4)
