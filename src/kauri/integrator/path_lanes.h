@@ -664,25 +664,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
 
     // Next-event estimation (sample_direct): a point on the chosen triangle, or the
     // direction an infinite light's sample took.
-    const I32x8 env = load(V.env);
-    if (any(env)) {  // the environment images' samples (sample_env), one image at a time
-      const I32x8 which = load(V.light_index);
-      const F32x8 ux = load(V.u_light[0]), uy = load(V.u_light[1]);
-      for (I32x8 todo = env; any(todo);) {
-        int first_bits = mask_bits(todo);
-        const int li = which[next_lane(&first_bits)];
-        const I32x8 m = todo & (which == li);
-        const Light& l = s.lights[li];
-        if (!spectra.ready) spectra.prepare(lambda, n, l.illuminant);
-        V3 wi_env;
-        F32x8 pdf_env, Le_env[kSpectrumSamples];
-        sample_env(l, tris.env[li], ux, uy, m, spectra, &wi_env, &pdf_env, Le_env);
-        V.light_wi.store(select(m, wi_env, V.light_wi.load()));
-        store(m ? pdf_env : load(V.light_pdf), V.light_pdf);
-        for (int i = 0; i < kSpectrumSamples; ++i) store(m ? Le_env[i] : load(V.Le.v[i]), V.Le.v[i]);
-        todo &= ~m;
-      }
-    }
+    if (any(load(V.env))) sample_env_lights(s, tris, lambda, n, spectra, V);
     const I32x8 nee = load(V.nee);
     if (any(nee)) {
       const I32x8 dir = nee & load(V.light_dir);
