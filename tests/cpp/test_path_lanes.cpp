@@ -40,6 +40,46 @@ MeshDesc quad(const std::string& name, std::initializer_list<float> p, int mater
 
 /// A Cornell-like box open towards the camera. `normals_and_uvs`: the back wall gets
 /// bent per-vertex normals and a rotated uv layout; `two_sided`: the light emits both ways.
+/// Materials the lanes do not run (their paths go on one at a time from the hit): a rough
+/// gold sphere, a rough glass sphere with dispersion, a smooth glass quad and a layered
+/// (two-lobe) wall.
+void add_other_materials(Scene& s) {
+  MaterialDesc gold = lambert("gold", {1, 1, 1});
+  gold.lobes[0].type = LobeType::GGXConductor;
+  gold.lobes[0].metal = "Au";
+  gold.lobes[0].roughness = 0.3f;
+  MaterialDesc glass = lambert("glass", {1, 1, 1});
+  glass.lobes[0].type = LobeType::RoughDielectric;
+  glass.lobes[0].roughness = 0.2f;
+  glass.lobes[0].abbe = 30;  // dispersion: the path keeps one wavelength
+  MaterialDesc pane = lambert("pane", {1, 1, 1});
+  pane.lobes[0].type = LobeType::SmoothDielectric;
+  MaterialDesc two = lambert("two", {0.4f, 0.5f, 0.6f});
+  LobeDesc sheen = two.lobes[0];
+  sheen.name = "sheen";
+  sheen.type = LobeType::Sheen;
+  two.lobes.push_back(sheen);
+  LayerDesc coat;
+  coat.name = "sheen_over_base";
+  coat.op = LayerOp::Coat;
+  coat.inputs = {"sheen", "base"};
+  two.layers.push_back(coat);
+  SphereDesc a;
+  a.name = "gold_ball";
+  a.center = {-0.45f, 0.35f, 0.2f};
+  a.radius = 0.3f;
+  a.material = s.add_material(gold);
+  s.add_sphere(0, a);
+  SphereDesc b = a;
+  b.name = "glass_ball";
+  b.center = {0.45f, 0.35f, -0.1f};
+  b.material = s.add_material(glass);
+  s.add_sphere(0, b);
+  s.add_mesh(0, quad("pane", {-0.6f, 0.9f, 0.6f, 0.6f, 0.9f, 0.6f, 0.6f, 1.4f, 0.2f, -0.6f, 1.4f, 0.2f}, s.add_material(pane)));
+  s.add_mesh(0, quad("sheen_patch", {-0.99f, 0.3f, 0.5f, -0.99f, 0.3f, -0.5f, -0.99f, 1.2f, -0.5f, -0.99f, 1.2f, 0.5f},
+                     s.add_material(two)));
+}
+
 void add_box(Scene& s, bool normals_and_uvs, bool two_sided, bool sphere = false, bool sky = false) {
   const int white = s.add_material(lambert("white", {0.73f, 0.73f, 0.73f}));
   const int red = s.add_material(lambert("red", {0.63f, 0.065f, 0.05f}));
@@ -122,9 +162,10 @@ RenderResult render_box(const CompiledScene& c, bool lanes, int max_diffuse, int
 }
 
 void expect_same_images(bool normals_and_uvs, bool two_sided, int max_diffuse, int rr_depth, bool sphere = false,
-                        bool sky = false) {
+                        bool sky = false, bool others = false) {
   Scene s;
   add_box(s, normals_and_uvs, two_sided, sphere, sky);
+  if (others) add_other_materials(s);
   auto c = s.compile(24, 24);
   ASSERT_TRUE(path_lanes_supported(c->view()));
   const RenderResult a = render_box(*c, false, max_diffuse, rr_depth);
@@ -158,8 +199,11 @@ TEST(PathLanes, RouletteFromTheFirstBounce) { expect_same_images(false, false, 6
 TEST(PathLanes, DiffuseBudgetOfOneAndNoRoulette) { expect_same_images(true, false, 1, 9); }
 TEST(PathLanes, AnalyticSphereAndDisk) { expect_same_images(false, false, 6, 4, true); }
 TEST(PathLanes, EnvironmentConstantAndDistantLights) { expect_same_images(false, false, 6, 4, true, true); }
+// Paths that reach a conductor, a rough or smooth dielectric (with dispersion) or a
+// two-lobe material go on one at a time from that hit: the image is still trace_path's.
+TEST(PathLanes, OtherMaterialsHandTheirPathsOver) { expect_same_images(false, false, 6, 4, true, true, true); }
 
-TEST(PathLanes, OnlyLambertSurfacesTriangleAndInfiniteLightsRunInLanes) {
+TEST(PathLanes, WhichScenesRunInLanes) {
   auto supported = [](auto&& build) {
     Scene s;
     add_box(s, false, false);
@@ -181,13 +225,24 @@ TEST(PathLanes, OnlyLambertSurfacesTriangleAndInfiniteLightsRunInLanes) {
     sp.emissive = true;
     s.add_sphere(0, sp);
   }));
-  EXPECT_FALSE(supported([](Scene& s) {  // a conductor
+  EXPECT_TRUE(supported([](Scene& s) {  // a conductor: its paths go on one at a time
     MaterialDesc m = lambert("metal", {1, 1, 1});
     m.lobes[0].type = LobeType::GGXConductor;
     m.lobes[0].metal = "Au";
     s.add_mesh(0, quad("mirror", {-0.5f, 0.5f, -0.9f, 0.5f, 0.5f, -0.9f, 0.5f, 1, -0.9f, -0.5f, 1, -0.9f},
                        s.add_material(m)));
   }));
+  {  // no Lambert surface at all: every path would be handed over at its first hit
+    Scene s;
+    MaterialDesc m = lambert("metal", {1, 1, 1});
+    m.lobes[0].type = LobeType::GGXConductor;
+    m.lobes[0].metal = "Ag";
+    s.add_mesh(0, quad("mirror", {-1, 0, 1, 1, 0, 1, 1, 0, -1, -1, 0, -1}, s.add_material(m)));
+    CameraDesc cam;
+    cam.eye = {0, 1, 3};
+    s.set_camera(cam);
+    EXPECT_FALSE(path_lanes_supported(s.compile(8, 8)->view()));
+  }
   EXPECT_TRUE(supported([](Scene& s) {  // a constant environment
     LightDesc env;
     env.name = "sky";

@@ -6,8 +6,9 @@
 namespace kauri {
 
 namespace {
-/// A material whose BSDF is one Lambert lobe with an untextured albedo and a constant
-/// weight, and no emission: the vertex kind the lanes run.
+/// A material whose BSDF is one Lambert lobe (its albedo constant, RGB or a texture) with a
+/// constant weight, and no emission: the vertex kind the lanes run. A path that reaches
+/// another material goes on one path at a time (trace_path from that hit).
 bool lane_material(const SceneView& s, int material) {
   if (material < 0) return true;  // a pure emitter: the path ends there
   const MaterialView& m = s.materials[material];
@@ -22,11 +23,12 @@ bool path_lanes_supported(const SceneView& s) {
   if (s.n_instances != 1 || !s.instances[0].identity) return false;
   const GroupView& g = s.groups[s.instances[0].group];
   size_t triangles = 0;
+  bool any_lane_vertex = false;  // a scene whose every surface hands its paths over gains nothing
   for (int i = 0; i < g.n_shapes; ++i) {
-    if (!lane_material(s, g.shapes[i].material)) return false;
+    any_lane_vertex |= lane_material(s, g.shapes[i].material);
     if (g.shapes[i].type == ShapeType::Mesh) triangles += g.shapes[i].mesh.n_triangles;
   }
-  if (triangles > kPathLanesMaxTriangles) return false;
+  if (!any_lane_vertex || triangles > kPathLanesMaxTriangles) return false;
   for (int i = 0; i < s.n_lights; ++i) {
     const Light& l = s.lights[i];
     const bool triangle = l.type == LightType::Triangle && l.material < 0;
@@ -48,6 +50,7 @@ LaneTriangles LaneTrianglesStore::view() const {
   t.uv = uv.empty() ? nullptr : uv.data();
   t.normals = normals.empty() ? nullptr : normals.data();
   t.env = env.data();
+  t.lane_material = lane_material.data();
   t.any_quads = any_quads;
   return t;
 }
@@ -75,6 +78,13 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
     t.shapes.push_back(row);
   }
   if (t.shapes.empty()) t.shapes.emplace_back();  // the rows of dead lanes: entry 0
+  // Per material of the root's shapes (the ones a lane's hit can be on): 1 where the lanes
+  // run its vertices.
+  int materials = 1;
+  for (int i = 0; i < g.n_shapes; ++i) materials = std::max(materials, g.shapes[i].material + 1);
+  t.lane_material.assign(size_t(materials), 0);
+  for (int i = 0; i < g.n_shapes; ++i)
+    if (g.shapes[i].material >= 0) t.lane_material[size_t(g.shapes[i].material)] = lane_material(s, g.shapes[i].material);
   t.lights.assign(std::max(s.n_lights, 1), LaneLightRow{});
   for (int i = 0; i < s.n_lights; ++i) {
     const Light& l = s.lights[i];

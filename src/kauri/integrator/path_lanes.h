@@ -119,6 +119,7 @@ struct LaneTriangles {
   const LaneUvRow* uv = nullptr;              // null: no mesh's material reads uv
   const LaneNormalRow* normals = nullptr;     // null: no mesh has shading normals
   const LaneEnvTables* env = nullptr;         // per scene light (empty but for environment images)
+  const uint8_t* lane_material = nullptr;     // per material: 1 where the lanes run its vertices
   bool any_quads = false;
 };
 /// Host storage of a LaneTriangles (build_lane_triangles).
@@ -130,6 +131,7 @@ struct LaneTrianglesStore {
   std::vector<LaneNormalRow> normals;
   std::deque<std::vector<float>> env_data;  // the arrays of `env` (a deque: they stay put)
   std::vector<LaneEnvTables> env;            // per scene light
+  std::vector<uint8_t> lane_material;
   bool any_quads = false;
   LaneTriangles view() const;
 };
@@ -401,7 +403,7 @@ inline void put(void* dst, const T& v) {
 /// shapes.
 template <class Accel>
 void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Accel& accel, const IntegratorSettings& cfg,
-                       const Ray* rays, const SampledWavelengths* lambda, Sampler* samplers, PathOutput* outs,
+                       const Ray* rays, SampledWavelengths* lambda, Sampler* samplers, PathOutput* outs,
                        const HitRecord* primary, const bool* primary_found, int n) {
   using namespace path_lanes_detail;
   Paths P;
@@ -562,6 +564,15 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       const int k = next_lane(&bits);
       PathOutput& out = outs[k];
       const int hmat = material[k], hlight = light[k];
+      if (hmat >= 0 && !tris.lane_material[hmat]) {  // a vertex the lanes do not run: hand the path over
+        HitRecord h;
+        h.t = t[k], h.u = hu[k], h.v = hv[k], h.geom = uint32_t(geom[k]), h.prim = uint32_t(prim[k]);
+        const PathState st = P.state(k);
+        trace_path(s, accel, cfg, Ray{lane(o, k), lane(d, k), kInfinity}, lambda[k], samplers[k], &out, &h, true, &st);
+        --out.rays;  // the ray to this hit is in the lane's count
+        P.alive[k] = 0;
+        continue;
+      }
       const bool scatters = hmat >= 0 && P.depth[k] < cfg.max_depth && !P.last_segment[k];
       // The bounce's pairs at once: the light choice's, the lobe and roulette's, the
       // direction's (get_2d_n). trace_path draws all three wherever the vertex scatters,
@@ -778,10 +789,10 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   }
   alignas(32) int32_t ray_lane[W];
   store(ray_count, ray_lane);
-  for (int k = 0; k < n; ++k) {
-    outs[k].L = P.L.get(k);
-    outs[k].L_direct_first = P.L_direct.get(k);
-    outs[k].rays = uint32_t(ray_lane[k]);
+  for (int k = 0; k < n; ++k) {  // added to what a handed-over path's trace_path gathered
+    outs[k].L += P.L.get(k);
+    outs[k].L_direct_first += P.L_direct.get(k);
+    outs[k].rays += uint32_t(ray_lane[k]);
   }
 }
 #endif

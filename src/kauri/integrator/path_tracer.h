@@ -190,12 +190,16 @@ KAURI_HOST_DEVICE inline Vec3 rgb_seen_directly(const SceneView& s, const Ray& r
 
 /// Traces one camera path. `primary`: the closest hit of `ray` when the caller has
 /// already found it (a pixel's camera rays traced as one packet), with `primary_found`
-/// saying whether there was one; null: the path traces its first ray itself.
+/// saying whether there was one; null: the path traces its first ray itself. `state`: where
+/// the path stands when `ray` is not the camera's (the path lanes hand a path over at a
+/// vertex they do not run, with `primary` its hit); null: a camera path's start. The ray
+/// of `primary` is counted in out->rays again.
 template <class Accel>
 KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const IntegratorSettings& cfg, Ray ray,
                                   SampledWavelengths& lambda, Sampler& sampler, PathOutput* out,
-                                  const HitRecord* primary = nullptr, bool primary_found = false) {
-  PathState st;
+                                  const HitRecord* primary = nullptr, bool primary_found = false,
+                                  const PathState* state = nullptr) {
+  PathState st = state ? *state : PathState{};
   EmissionCache emission;
   for (;;) {
     HitRecord h;
