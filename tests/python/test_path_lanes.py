@@ -2,8 +2,9 @@
 (integrator/path_lanes.h) where the scene allows it. The bench's Cornell box, hangar,
 textured room and environment-lit scene (Lambert meshes, image textures, analytic spheres,
 triangle lights, an environment map) run in lanes and give the one-path-at-a-time image up
-to float rounding, with the same rays; scenes with other surfaces (conductors, dielectrics)
-fall back, which the statistics say."""
+to float rounding, with the same rays; so does the glossy scene, whose paths go on one at a
+time from its conductor and glass spheres. A scene without a Lambert surface falls back,
+which the statistics say."""
 import os
 import sys
 
@@ -21,7 +22,8 @@ def _render(desc, lanes, res=24, spp=16):
     return kauri.render(peers.to_kauri(desc), spp=spp, resolution=(res, res), seed=3, threads=2, path_lanes=lanes)
 
 
-@pytest.mark.parametrize("module", [cornell, hangar, textured, envmap], ids=["cornell", "hangar", "textured", "envmap"])
+@pytest.mark.parametrize("module", [cornell, hangar, textured, envmap, glossy],
+                         ids=["cornell", "hangar", "textured", "envmap", "glossy"])
 def test_lanes_give_the_scalar_image(module):
     desc = module.describe()
     a, b = _render(desc, False), _render(desc, True)
@@ -34,8 +36,11 @@ def test_lanes_give_the_scalar_image(module):
     np.testing.assert_allclose(b.depth, a.depth, rtol=1e-6)
 
 
-def test_other_scenes_fall_back():
-    out = _render(glossy.describe(), True, res=8, spp=2)
+def test_scenes_without_lambert_surfaces_fall_back():
+    desc = glossy.describe()
+    desc["shapes"] = [dict(sh, conductor={"metal": "Ag", "alpha": 0.1}) if "diffuse" in sh else sh
+                      for sh in desc["shapes"]]
+    out = _render(desc, True, res=8, spp=2)
     assert not out.stats["path_lanes"]
 
 

@@ -25,7 +25,7 @@ bool path_lanes_supported(const SceneView& s) {
   size_t triangles = 0;
   bool any_lane_vertex = false;  // a scene whose every surface hands its paths over gains nothing
   for (int i = 0; i < g.n_shapes; ++i) {
-    any_lane_vertex |= lane_material(s, g.shapes[i].material);
+    any_lane_vertex |= g.shapes[i].material >= 0 && lane_material(s, g.shapes[i].material);
     if (g.shapes[i].type == ShapeType::Mesh) triangles += g.shapes[i].mesh.n_triangles;
   }
   if (!any_lane_vertex || triangles > kPathLanesMaxTriangles) return false;
