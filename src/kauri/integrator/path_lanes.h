@@ -26,12 +26,13 @@
 // threads; moving rays, hits and surfaces into the lanes made the Cornell box 0.76–0.80×
 // the one-path time (docs/benchmarks.md).
 //
-// It covers the scenes whose every vertex is this kind (path_lanes_supported): shapes of
-// the root group (triangle meshes, spheres and disks), materials of one
-// Lambert lobe (its albedo constant, RGB or an image texture; its weight constant),
-// triangle area lights with their own emission, and infinite lights (constant and
-// image environments, distant lights). Other scenes take
-// trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA
+// It covers the scenes (path_lanes_supported) of shapes of the root group (triangle meshes,
+// spheres and disks), triangle area lights with their own emission and infinite lights
+// (constant and image environments, distant lights), with at least one surface of a
+// material of one Lambert lobe (its albedo constant, RGB or an image texture; its weight
+// constant): the vertices the lanes run. A path that reaches another material is handed
+// over there, to trace_path() from that hit with the lane's state, and its lane ends.
+// Other scenes take trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA
 // build runs trace_path().
 #pragma once
 
@@ -58,9 +59,9 @@ inline constexpr int kPathLanes = 8;
 /// scene: 58% of its render is Embree's), and take trace_path().
 inline constexpr size_t kPathLanesMaxTriangles = size_t(1) << 19;
 
-/// Whether every vertex a path of `s` can reach is of the kind trace_paths_lanes() runs
-/// (see above), at most kPathLanesMaxTriangles, and the build has the vector types. Host
-/// code, once per render.
+/// Whether trace_paths_lanes() runs `s` (see above: its shapes and lights, a Lambert
+/// surface, at most kPathLanesMaxTriangles) and the build has the vector types. Host code,
+/// once per render.
 bool path_lanes_supported(const SceneView& s);
 
 /// The root group's shapes and triangles as tables of rows the lanes read by shape and by
