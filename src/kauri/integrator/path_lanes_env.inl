@@ -1,9 +1,9 @@
-// Environment images across the path lanes (included by path_lanes.h): what a path that
-// escapes after its first bounce receives from an image (escaped_radiance_of: its
-// radiance and next-event density along the direction, the MIS weight), for 8 lanes at
-// once. Lane by lane this was the environment scene's largest cost after Embree: the
-// lat-long angles, the bilinear texel lookup and the density were ~17% of its
-// instructions (callgrind, 32 × 32, 32 spp), a scalar chain per escaped path. The same
+// Environment images across the path lanes (included by path_lanes.h), for 8 lanes at
+// once: what a path that escapes after its first bounce receives from an image
+// (escaped_radiance_of: its radiance and next-event density along the direction, the MIS
+// weight), and next-event estimation's samples of an image (sample_env). Lane by lane
+// these were the environment scene's largest costs after Embree (perf: 19% and 23% of its
+// timer samples; callgrind: 17% and 16% of its instructions). The same
 // operations as the scalar functions (light.h, math.h), so the lanes' images equal
 // trace_path's up to rounding (tests/cpp/test_path_lanes.cpp). Included inside namespace
 // kauri, after the lanes' vector helpers.
