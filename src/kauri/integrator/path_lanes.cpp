@@ -64,9 +64,9 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
   for (int i = 0; i < g.n_shapes; ++i) {
     const ShapeView& shape = g.shapes[i];
     LaneShapeRow row;  // spheres and disks (first −1): their hits lane by lane
+    row.material = shape.material;
     if (shape.type == ShapeType::Mesh) {
       row.first = int32_t(count);
-      row.material = shape.material;
       row.first_light = s.emitter_first_light[root.shape_slot_base + i];
       row.has_n = shape.mesh.n ? -1 : 0;
       count += shape.mesh.n_triangles;

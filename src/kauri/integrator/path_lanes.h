@@ -73,7 +73,7 @@ bool path_lanes_supported(const SceneView& s);
 struct alignas(32) LaneShapeRow {
   int32_t first = -1;        // its first triangle's number; −1: a sphere or disk
   int32_t quads = 0;         // −1: Embree has it as quads (EmbreeAccel::root_quads)
-  int32_t material = -1;
+  int32_t material = -1;     // (spheres and disks too: the lanes hand over their paths by it)
   int32_t first_light = -1;  // the light of its triangle `prim` is first_light + prim; −1: none
   int32_t has_n = 0;         // −1: per-vertex shading normals
   int32_t unused[3] = {};
@@ -549,6 +549,10 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     if (any(analytic)) {  // compute_surface_hit lane by lane
       for (int bits = mask_bits(analytic); bits;) {
         const int k = next_lane(&bits);
+        if (shape_material[k] >= 0 && !tris.lane_material[shape_material[k]]) {  // handed over below, where
+          material[k] = shape_material[k], light[k] = -1;                     // trace_path finds its surface
+          continue;
+        }
         HitRecord h;
         h.t = t[k], h.u = hu[k], h.v = hv[k], h.geom = uint32_t(geom[k]), h.prim = uint32_t(prim[k]);
         const SurfaceHit sh = compute_surface_hit(s, Ray{lane(o, k), lane(d, k), kInfinity}, h);
