@@ -276,7 +276,7 @@ TEST(PathLanes, EnvironmentImageAcrossTheLanesMatchesTheScalarFunctions) {
   ASSERT_GE(li, 0);
   const Light& l = v.lights[li];
   const LaneEnvTables& t = store.env[size_t(li)];
-  ASSERT_NE(t.pdf, nullptr);
+  ASSERT_NE(t.conditional_func, nullptr);
   SampledWavelengths lambda[W];
   for (int k = 0; k < W; ++k) lambda[k] = SampledWavelengths::sample_visible((Float(k) + 0.3f) / W);
   LaneSpectra spectra;

@@ -518,6 +518,13 @@ TEST(Distribution, Continuous2D) {
   for (int v = 0; v < nv; ++v) f[size_t(v * nu + 7)] = 0;  // a whole zero column
   Distribution2DStorage storage(f, nu, nv);
   Distribution2D d = storage.view();
+  // The rows lie one after another (read flat by the path lanes); the marginal's values are
+  // the rows' integrals.
+  for (int v = 0; v < nv; ++v) {
+    EXPECT_EQ(d.conditional[v].func, d.conditional[0].func + v * nu);
+    EXPECT_EQ(d.conditional[v].cdf, d.conditional[0].cdf + v * (nu + 1));
+    EXPECT_EQ(d.marginal.func[v], d.conditional[v].integral);
+  }
   int mismatches = 0;
   auto sample = [&](PCG32& r, double* x, double* y) {
     Float pdf;

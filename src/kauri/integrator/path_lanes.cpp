@@ -94,30 +94,17 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
     r.inv_area = 1 / l.area;
     r.two_sided = l.two_sided ? -1 : 0;
   }
-  // Environment images: next-event estimation's density as flat tables.
+  // Environment images: next-event estimation's density, read flat (Distribution2D's rows
+  // lie one after another).
   t.env.assign(size_t(std::max(s.n_lights, 1)), LaneEnvTables{});
   for (int i = 0; i < s.n_lights; ++i) {
     const Light& l = s.lights[i];
     if (l.type != LightType::EnvMap || !has_light_density(l, kNextEventDensity)) continue;
     const Distribution2D& d = env_distribution(l, kNextEventDensity);
-    auto table = [&](size_t size) -> std::vector<float>& { return t.env_data.emplace_back(size); };
-    std::vector<float>& pdf = table(size_t(d.nu) * size_t(d.nv));
-    std::vector<float>& cdf = table(size_t(d.nu + 1) * size_t(d.nv));
-    std::vector<float>& func = table(size_t(d.nu) * size_t(d.nv));
-    std::vector<float>& integral = table(size_t(d.nv));
-    for (int v = 0; v < d.nv; ++v) {
-      const Distribution1D& row = d.conditional[v];
-      integral[size_t(v)] = row.integral;
-      for (int u = 0; u <= d.nu; ++u) cdf[size_t(v) * size_t(d.nu + 1) + size_t(u)] = row.cdf[u];
-      for (int u = 0; u < d.nu; ++u) {
-        func[size_t(v) * size_t(d.nu) + size_t(u)] = row.func[u];
-        pdf[size_t(v) * size_t(d.nu) + size_t(u)] = d.marginal.integral > 0 ? row.func[u] / d.marginal.integral : 0;  // as pdf()
-      }
-    }
+    if (!(d.marginal.integral > 0)) continue;
     LaneEnvTables& e = t.env[size_t(i)];
-    e.pdf = pdf.data(), e.conditional_cdf = cdf.data(), e.conditional_func = func.data();
-    e.conditional_integral = integral.data();
-    e.marginal_cdf = d.marginal.cdf, e.marginal_func = d.marginal.func, e.marginal_integral = d.marginal.integral;
+    e.conditional_func = d.conditional[0].func, e.conditional_cdf = d.conditional[0].cdf;
+    e.marginal_func = d.marginal.func, e.marginal_cdf = d.marginal.cdf, e.marginal_integral = d.marginal.integral;
     e.nu = d.nu, e.nv = d.nv;
   }
   const size_t rows = std::max<size_t>(count, 1);

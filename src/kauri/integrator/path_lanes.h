@@ -39,7 +39,6 @@
 #include <embree3/rtcore.h>
 
 #include <cstddef>
-#include <deque>
 #include <vector>
 
 #include "kauri/accel/embree_accel.h"
@@ -100,17 +99,16 @@ struct alignas(64) LaneLightRow {
   int32_t two_sided;  // −1: emits on both sides
   float unused[2];
 };
-/// An environment image's next-event density (env_distribution for kNextEventDensity) as
-/// flat tables, the conditional rows one after another, for lookups and samples across the
-/// lanes (path_lanes_env.inl). `pdf` null: no density (the light is not sampled).
+/// An environment image's next-event density (env_distribution for kNextEventDensity),
+/// read flat for lookups and samples across the lanes (path_lanes_env.inl): pointers into
+/// the Distribution2D, which keeps its rows one after another. `conditional_func` null: no
+/// density (next-event estimation never samples the light).
 struct LaneEnvTables {
-  const float* pdf = nullptr;                   // nv × nu: Distribution2D::pdf per cell
-  const float* marginal_cdf = nullptr;          // nv + 1
-  const float* marginal_func = nullptr;         // nv
-  const float* conditional_cdf = nullptr;       // nv × (nu + 1)
-  const float* conditional_func = nullptr;      // nv × nu
-  const float* conditional_integral = nullptr;  // nv
-  float marginal_integral = 0;
+  const float* conditional_func = nullptr;  // nv × nu
+  const float* conditional_cdf = nullptr;   // nv × (nu + 1)
+  const float* marginal_func = nullptr;     // nv: the rows' integrals
+  const float* marginal_cdf = nullptr;      // nv + 1
+  float marginal_integral = 0;              // > 0 where the tables are set
   int nu = 0, nv = 0;
 };
 struct LaneTriangles {
@@ -130,8 +128,7 @@ struct LaneTrianglesStore {
   std::vector<LaneTriangleRow> triangles;
   std::vector<LaneUvRow> uv;
   std::vector<LaneNormalRow> normals;
-  std::deque<std::vector<float>> env_data;  // the arrays of `env` (a deque: they stay put)
-  std::vector<LaneEnvTables> env;            // per scene light
+  std::vector<LaneEnvTables> env;  // per scene light
   std::vector<uint8_t> lane_material;
   bool any_quads = false;
   LaneTriangles view() const;

@@ -146,13 +146,13 @@ __attribute__((noinline)) inline void add_env_escaped(const SceneView& s, const 
   u = u < 0 ? u + 1 : u;
   const F32x8 v = acos_poly(d.y) * kInvPi;
   const F32x8 sin_theta = vsqrt(d.x * d.x + d.z * d.z);
-  // env_pdf (Distribution2D::pdf: the texel's value, its indices clamped).
+  // env_pdf (Distribution2D::pdf: the cell's value over the integral, its indices clamped).
   F32x8 pdf{};
-  if (t.pdf) {
+  if (t.conditional_func) {
     I32x8 iu = __builtin_convertvector(u * Float(t.nu), I32x8), iv = __builtin_convertvector(v * Float(t.nv), I32x8);
     iu = iu < 0 ? I32x8{} : (iu >= t.nu ? I32x8{} + (t.nu - 1) : iu);
     iv = iv < 0 ? I32x8{} : (iv >= t.nv ? I32x8{} + (t.nv - 1) : iv);
-    const F32x8 pdf_uv = gather(t.pdf, m ? iv * t.nu + iu : I32x8{});
+    const F32x8 pdf_uv = gather(t.conditional_func, m ? iv * t.nu + iu : I32x8{}) / t.marginal_integral;
     pdf = sin_theta == 0 ? F32x8{} : pdf_uv / (2 * kPi * kPi * (sin_theta == 0 ? splat(1) : sin_theta));
   }
   F32x8 Le[kSpectrumSamples];
@@ -176,13 +176,13 @@ inline void sample_env(const Light& l, const LaneEnvTables& t, F32x8 ux, F32x8 u
   *pdf = F32x8{};
   *wi = V3{};
   for (int i = 0; i < kSpectrumSamples; ++i) Le[i] = F32x8{};
-  if (!t.pdf) return;
+  if (!t.conditional_func) return;
   F32x8 pdf_v, pdf_u;
   I32x8 row, column;
   const F32x8 y = sample_continuous(t.marginal_cdf, t.marginal_func, I32x8{}, I32x8{}, splat(t.marginal_integral), t.nv,
                                     uy, &pdf_v, &row);
   const F32x8 x = sample_continuous(t.conditional_cdf, t.conditional_func, row * (t.nu + 1), row * t.nu,
-                                    gather(t.conditional_integral, row), t.nu, ux, &pdf_u, &column);
+                                    gather(t.marginal_func, row), t.nu, ux, &pdf_u, &column);
   const F32x8 pdf_uv = pdf_v * pdf_u;
   F32x8 cos_phi, sin_phi, cos_theta, sin_theta;  // φ = 2π u, θ = π v
   cos_sin_turns(x, &cos_phi, &sin_phi);
@@ -206,9 +206,8 @@ __attribute__((noinline)) inline void sample_env_lights(const SceneView& s, cons
                                                         Vertices& V) {
   const I32x8 which = load(V.light_index);
   const F32x8 ux = load(V.u_light[0]), uy = load(V.u_light[1]);
-  for (I32x8 todo = load(V.env); any(todo);) {
-    int bits = mask_bits(todo);
-    const int li = which[next_lane(&bits)];
+  for (I32x8 todo = load(V.env); any(todo);) {  // one image at a time: the first left's
+    const int li = which[__builtin_ctz(unsigned(mask_bits(todo)))];
     const I32x8 m = todo & (which == li);
     const Light& l = s.lights[li];
     if (!spectra.ready) spectra.prepare(lambda, n, l.illuminant);

@@ -25,7 +25,8 @@ class Distribution1DStorage {
 class Distribution2DStorage {
  public:
   Distribution2DStorage() = default;
-  /// `func` is row-major, nv rows of nu values.
+  /// `func` is row-major, nv rows of nu values; the conditional rows' values and CDFs are
+  /// kept one row after another (the layout Distribution2D documents).
   Distribution2DStorage(const std::vector<Float>& func, int nu, int nv);
   // Views point into the rows' heap buffers: moving keeps them valid, copying would not.
   Distribution2DStorage(Distribution2DStorage&&) = default;
@@ -38,7 +39,7 @@ class Distribution2DStorage {
   size_t bytes() const;
 
  private:
-  std::vector<Distribution1DStorage> conditional_;
+  std::vector<Float> func_, cdf_;  // the conditional rows: nv × nu values, nv × (nu + 1) CDF entries
   std::vector<Distribution1D> conditional_views_;
   Distribution1DStorage marginal_;
   int nu_ = 0, nv_ = 0;

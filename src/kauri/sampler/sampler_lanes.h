@@ -39,14 +39,12 @@ KAURI_HOST_DEVICE inline bool start_pixel_samples_lanes(Sampler* s, int n, int p
   const U32x8 index = U32x8{0, 1, 2, 3, 4, 5, 6, 7} + s[0].index;
   const U32x8 reversed = reverse_words(index);
   F32x8 coord[2 * kSobolBatch];  // x of pairs 0 … 7, then their y
-  // SobolPairSeeds of the 8 pairs, pair p in lane p: three vector hashes for 24 scalar ones.
-  const U32x8 pair = U32x8{0, 1, 2, 3, 4, 5, 6, 7}, pixel = U32x8{} + pixel_seed;
-  const U32x8 shuffle_seed = hash_words(pixel ^ (pair * 0x9e3779b9u));
-  const U32x8 x_seed = hash_words(pixel ^ (pair * 0x85ebca6bu + 1u)), y_seed = hash_words(pixel ^ (pair * 0xc2b2ae35u + 2u));
+  // The 8 pairs' scramble seeds, pair p in lane p: three vector hashes for 24 scalar ones.
+  const BasicSobolPairSeeds<U32x8> seeds(U32x8{0, 1, 2, 3, 4, 5, 6, 7}, U32x8{} + pixel_seed);
   for (uint32_t p = 0; p < kSobolBatch; ++p) {
-    const U32x8 c = reverse_words(laine_karras_words(reversed, U32x8{} + shuffle_seed[p]));
-    const U32x8 x = reverse_words(laine_karras_words(c, U32x8{} + x_seed[p])) >> 8;
-    const U32x8 y = reverse_words(laine_karras_words(superset_xor(c), U32x8{} + y_seed[p])) >> 8;
+    const U32x8 c = reverse_words(laine_karras_words(reversed, U32x8{} + seeds.shuffle[p]));
+    const U32x8 x = reverse_words(laine_karras_words(c, U32x8{} + seeds.x[p])) >> 8;
+    const U32x8 y = reverse_words(laine_karras_words(superset_xor(c), U32x8{} + seeds.y[p])) >> 8;
     // v >> 8 < 2^24: exact as a signed integer and as a float, as in u32_to_unit.
     coord[p] = __builtin_convertvector(reinterpret_cast<const I32x8&>(x), F32x8) * 0x1p-24f;
     coord[kSobolBatch + p] = __builtin_convertvector(reinterpret_cast<const I32x8&>(y), F32x8) * 0x1p-24f;

@@ -186,7 +186,10 @@ struct Distribution1D {
 };
 
 /// Piecewise-constant 2D density on [0,1)^2: a marginal over rows (v) and one
-/// conditional per row (u). Views over host-owned arrays.
+/// conditional per row (u). Views over host-owned arrays (Distribution2DStorage), the rows
+/// one after another: conditional[v].func = conditional[0].func + v·nu and
+/// conditional[v].cdf = conditional[0].cdf + v·(nu + 1), so the whole table can also be read
+/// flat (the path lanes' gathers); the marginal's values are the rows' integrals.
 struct Distribution2D {
   const Distribution1D* conditional = nullptr;  // nv rows
   Distribution1D marginal;

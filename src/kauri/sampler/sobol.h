@@ -150,15 +150,18 @@ KAURI_HOST_DEVICE inline uint32_t nested_uniform_scramble(uint32_t x, uint32_t s
 }
 KAURI_HOST_DEVICE inline uint32_t hash_u32(uint32_t x) { return sobol_detail::hash_words(x); }
 
-/// Scramble seeds of dimension pair `pair`: index shuffle, x and y Owen scrambles.
-struct SobolPairSeeds {
-  uint32_t shuffle, x, y;
-  SobolPairSeeds() = default;
-  KAURI_HOST_DEVICE SobolPairSeeds(uint32_t pair, uint32_t pixel_seed)
-      : shuffle(hash_u32(pixel_seed ^ (pair * 0x9e3779b9u))),
-        x(hash_u32(pixel_seed ^ (pair * 0x85ebca6bu + 1u))),
-        y(hash_u32(pixel_seed ^ (pair * 0xc2b2ae35u + 2u))) {}
+/// Scramble seeds of dimension pair `pair`: index shuffle, x and y Owen scrambles. `W`: a
+/// 32-bit word, or a vector of them (the sampler's group start: 8 pairs at once).
+template <class W>
+struct BasicSobolPairSeeds {
+  W shuffle, x, y;
+  BasicSobolPairSeeds() = default;
+  KAURI_HOST_DEVICE BasicSobolPairSeeds(W pair, W pixel_seed)
+      : shuffle(sobol_detail::hash_words(pixel_seed ^ (pair * 0x9e3779b9u))),
+        x(sobol_detail::hash_words(pixel_seed ^ (pair * 0x85ebca6bu + 1u))),
+        y(sobol_detail::hash_words(pixel_seed ^ (pair * 0xc2b2ae35u + 2u))) {}
 };
+using SobolPairSeeds = BasicSobolPairSeeds<uint32_t>;
 
 /// Bit reversal of two 32-bit words at once, in one 64-bit register: *x ← R(*x), *y ← R(*y)
 /// for the cost of one reversal (the byte swap exchanges the words, which it undoes).
