@@ -285,10 +285,11 @@ void CompiledScene::build_lights(const Scene& scene, const RGBColorSpace& cs) {
           EnvTexel t{0, 0, 0, 0};
           if (s.type == SpectrumType::RGBIlluminant) t = {s.rgb.scale, s.rgb.poly.c0, s.rgb.poly.c1, s.rgb.poly.c2};
           texels[i] = t;
-          // The colour the spectrum is fitted to: a camera ray adds it as is. Integrating each texel's spectrum (as Le_rgb is) would cost ~1400
-          // sigmoids a texel, minutes for a 16k map; the fit's own error is what separates the
-          // two (≤ 0.04% over linear-sRGB colours; more for colours beyond the spectral
-          // locus, which no spectrum of the fit has: tests/cpp/test_lights.cpp).
+          // The colour the spectrum is fitted to: a camera ray adds it as is. Integrating
+          // each texel's spectrum (as Le_rgb is) would cost ~1400 sigmoids a texel, minutes
+          // for a 16k map; the fit's own error is what separates the two (≤ 0.04% over
+          // linear-sRGB colours; more for colours beyond the spectral locus, which no
+          // spectrum of the fit has: tests/cpp/test_lights.cpp).
           texel_rgb[i] = rgb * d.emission.intensity;
           lum[i] = fmax_(cs.to_xyz(rgb).y, 0);
         }
