@@ -40,9 +40,10 @@ MeshDesc quad(const std::string& name, std::initializer_list<float> p, int mater
 
 /// A Cornell-like box open towards the camera. `normals_and_uvs`: the back wall gets
 /// bent per-vertex normals and a rotated uv layout; `two_sided`: the light emits both ways.
-/// Materials the lanes do not run (their paths go on one at a time from the hit): a rough
-/// gold sphere, a rough glass sphere with dispersion, a smooth glass quad and a layered
-/// (two-lobe) wall.
+/// Materials the lanes do not run across the vector: a rough gold sphere, a rough glass
+/// sphere with dispersion, a smooth glass quad and a layered (two-lobe) wall, whose BSDFs
+/// the lanes build and sample lane by lane (kLaneBsdf), and a wall whose lobe weight reads a
+/// vertex attribute, where the path goes on one at a time from the hit (kHandOver).
 void add_other_materials(Scene& s) {
   MaterialDesc gold = lambert("gold", {1, 1, 1});
   gold.lobes[0].type = LobeType::GGXConductor;
@@ -78,6 +79,12 @@ void add_other_materials(Scene& s) {
   s.add_mesh(0, quad("pane", {-0.6f, 0.9f, 0.6f, 0.6f, 0.9f, 0.6f, 0.6f, 1.4f, 0.2f, -0.6f, 1.4f, 0.2f}, s.add_material(pane)));
   s.add_mesh(0, quad("sheen_patch", {-0.99f, 0.3f, 0.5f, -0.99f, 0.3f, -0.5f, -0.99f, 1.2f, -0.5f, -0.99f, 1.2f, 0.5f},
                      s.add_material(two)));
+  MaterialDesc worn = lambert("worn", {0.3f, 0.6f, 0.9f});
+  worn.lobes[0].weight.attribute = "wear";
+  MeshDesc patch = quad("worn_patch", {0.99f, 0.3f, -0.5f, 0.99f, 0.3f, 0.5f, 0.99f, 1.2f, 0.5f, 0.99f, 1.2f, -0.5f},
+                        s.add_material(worn));
+  patch.attributes["wear"] = {0.2f, 1, 0.6f, 0.9f};
+  s.add_mesh(0, patch);
 }
 
 void add_box(Scene& s, bool normals_and_uvs, bool two_sided, bool sphere = false, bool sky = false) {
@@ -148,7 +155,8 @@ void add_box(Scene& s, bool normals_and_uvs, bool two_sided, bool sphere = false
   s.set_camera(cam);
 }
 
-RenderResult render_box(const CompiledScene& c, bool lanes, int max_diffuse, int rr_depth) {
+RenderResult render_box(const CompiledScene& c, bool lanes, int max_diffuse, int rr_depth, int max_glossy,
+                        int max_transmission) {
   RenderSettings cfg;
   cfg.width = cfg.height = 24;
   cfg.spp = 16;
@@ -158,18 +166,20 @@ RenderResult render_box(const CompiledScene& c, bool lanes, int max_diffuse, int
   cfg.integrator.path_lanes = lanes;
   cfg.integrator.max_diffuse = max_diffuse;
   cfg.integrator.rr_min_depth = rr_depth;
+  cfg.integrator.max_glossy = max_glossy;
+  cfg.integrator.max_transmission = max_transmission;
   return render(c, cfg);
 }
 
 void expect_same_images(bool normals_and_uvs, bool two_sided, int max_diffuse, int rr_depth, bool sphere = false,
-                        bool sky = false, bool others = false) {
+                        bool sky = false, bool others = false, int max_glossy = 8, int max_transmission = 12) {
   Scene s;
   add_box(s, normals_and_uvs, two_sided, sphere, sky);
   if (others) add_other_materials(s);
   auto c = s.compile(24, 24);
   ASSERT_TRUE(path_lanes_supported(c->view()));
-  const RenderResult a = render_box(*c, false, max_diffuse, rr_depth);
-  const RenderResult b = render_box(*c, true, max_diffuse, rr_depth);
+  const RenderResult a = render_box(*c, false, max_diffuse, rr_depth, max_glossy, max_transmission);
+  const RenderResult b = render_box(*c, true, max_diffuse, rr_depth, max_glossy, max_transmission);
   EXPECT_FALSE(a.stats.path_lanes);
   EXPECT_TRUE(b.stats.path_lanes);
   // A path whose last-bit difference flips a comparison (a roulette test, a hemisphere
@@ -200,8 +210,25 @@ TEST(PathLanes, DiffuseBudgetOfOneAndNoRoulette) { expect_same_images(true, fals
 TEST(PathLanes, AnalyticSphereAndDisk) { expect_same_images(false, false, 6, 4, true); }
 TEST(PathLanes, EnvironmentConstantAndDistantLights) { expect_same_images(false, false, 6, 4, true, true); }
 // Paths that reach a conductor, a rough or smooth dielectric (with dispersion) or a
-// two-lobe material go on one at a time from that hit: the image is still trace_path's.
-TEST(PathLanes, OtherMaterialsHandTheirPathsOver) { expect_same_images(false, false, 6, 4, true, true, true); }
+// two-lobe material scatter there lane by lane; at a material that reads vertex attributes
+// they go on one at a time from that hit: the image is still trace_path's.
+TEST(PathLanes, OtherMaterialsLaneByLaneOrHandedOver) { expect_same_images(false, false, 6, 4, true, true, true); }
+// The same with a glossy budget of 1 and roulette from the start: the lanes' budgets and
+// roulette see the BSDF lanes' glossy and transmission depths and η scale.
+TEST(PathLanes, OtherMaterialsWithTightBudgets) {
+  expect_same_images(false, false, 3, 0, true, true, true, 1, 2);
+}
+
+TEST(PathLanes, WhereEachMaterialsVerticesRun) {
+  Scene s;
+  add_box(s, false, false);
+  add_other_materials(s);
+  const LaneTrianglesStore t = build_lane_triangles(s.compile(8, 8)->view(), {});
+  // white, red, green, dark (w_b = 0); gold, glass, pane, sheen over Lambert; the worn wall.
+  const std::vector<uint8_t> expected = {kLaneLambert, kLaneLambert, kLaneLambert, kLaneLambert, kLaneBsdf,
+                                         kLaneBsdf,    kLaneBsdf,    kLaneBsdf,    kHandOver};
+  EXPECT_EQ(t.lane_material, expected);
+}
 
 TEST(PathLanes, WhichScenesRunInLanes) {
   auto supported = [](auto&& build) {
@@ -225,14 +252,14 @@ TEST(PathLanes, WhichScenesRunInLanes) {
     sp.emissive = true;
     s.add_sphere(0, sp);
   }));
-  EXPECT_TRUE(supported([](Scene& s) {  // a conductor: its paths go on one at a time
+  EXPECT_TRUE(supported([](Scene& s) {  // a conductor: its vertices lane by lane
     MaterialDesc m = lambert("metal", {1, 1, 1});
     m.lobes[0].type = LobeType::GGXConductor;
     m.lobes[0].metal = "Au";
     s.add_mesh(0, quad("mirror", {-0.5f, 0.5f, -0.9f, 0.5f, 0.5f, -0.9f, 0.5f, 1, -0.9f, -0.5f, 1, -0.9f},
                        s.add_material(m)));
   }));
-  {  // no Lambert surface at all: every path would be handed over at its first hit
+  {  // no Lambert surface at all: nothing runs across the vector
     Scene s;
     MaterialDesc m = lambert("metal", {1, 1, 1});
     m.lobes[0].type = LobeType::GGXConductor;

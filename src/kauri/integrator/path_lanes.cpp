@@ -6,15 +6,17 @@
 namespace kauri {
 
 namespace {
-/// A material whose BSDF is one Lambert lobe (its albedo constant, RGB or a texture) with a
-/// constant weight, and no emission: the vertex kind the lanes run. A path that reaches
-/// another material goes on one path at a time (trace_path from that hit).
-bool lane_material(const SceneView& s, int material) {
-  if (material < 0) return true;  // a pure emitter: the path ends there
+/// Where the lanes run the vertices of `material` (LaneMaterial): one Lambert lobe with a
+/// constant weight across the lanes; any other BSDF whose weights read no vertex attribute
+/// (the lanes do not interpolate them) lane by lane; the rest, and emissive materials (whose
+/// lights path_lanes_supported leaves out), handed over to trace_path.
+LaneMaterial lane_material(const SceneView& s, int material) {
   const MaterialView& m = s.materials[material];
+  if (m.emissive) return kHandOver;
+  for (int i = 0; i < m.front.n_nodes; ++i)  // one weight a node (the back program shares them)
+    if (s.node_weights[m.first_weight + i].attribute >= 0) return kHandOver;
   const LobeParams* params = s.lobes + m.first_lobe;
-  return !m.emissive && material_detail::single_lobe(m, params) && params[0].type == LobeType::Lambert &&
-         s.node_weights[m.first_weight].attribute < 0;
+  return material_detail::single_lobe(m, params) && params[0].type == LobeType::Lambert ? kLaneLambert : kLaneBsdf;
 }
 }  // namespace
 
@@ -25,7 +27,7 @@ bool path_lanes_supported(const SceneView& s) {
   size_t triangles = 0;
   bool any_lane_vertex = false;  // a scene whose every surface hands its paths over gains nothing
   for (int i = 0; i < g.n_shapes; ++i) {
-    any_lane_vertex |= g.shapes[i].material >= 0 && lane_material(s, g.shapes[i].material);
+    any_lane_vertex |= g.shapes[i].material >= 0 && lane_material(s, g.shapes[i].material) == kLaneLambert;
     if (g.shapes[i].type == ShapeType::Mesh) triangles += g.shapes[i].mesh.n_triangles;
   }
   if (!any_lane_vertex || triangles > kPathLanesMaxTriangles) return false;
@@ -78,11 +80,10 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
     t.shapes.push_back(row);
   }
   if (t.shapes.empty()) t.shapes.emplace_back();  // the rows of dead lanes: entry 0
-  // Per material of the root's shapes (the ones a lane's hit can be on): 1 where the lanes
-  // run its vertices.
+  // Per material of the root's shapes (the ones a lane's hit can be on): its LaneMaterial.
   int materials = 1;
   for (int i = 0; i < g.n_shapes; ++i) materials = std::max(materials, g.shapes[i].material + 1);
-  t.lane_material.assign(size_t(materials), 0);
+  t.lane_material.assign(size_t(materials), kHandOver);
   for (int i = 0; i < g.n_shapes; ++i)
     if (g.shapes[i].material >= 0) t.lane_material[size_t(g.shapes[i].material)] = lane_material(s, g.shapes[i].material);
   t.lights.assign(std::max(s.n_lights, 1), LaneLightRow{});

@@ -30,9 +30,13 @@
 // spheres and disks), triangle area lights with their own emission and infinite lights
 // (constant and image environments, distant lights), with at least one surface of a
 // material of one Lambert lobe (its albedo constant, RGB or an image texture; its weight
-// constant): the vertices the lanes run. A path that reaches another material is handed
-// over there, to trace_path() from that hit with the lane's state, and its lane ends.
-// Other scenes take trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA
+// constant): the vertices the lanes run across the vector. At a vertex of any other BSDF
+// (conductors, dielectrics, layered stacks) the lanes build, evaluate and sample it lane by
+// lane with trace_path's own functions (bsdf_vertex: direct_sample, continue_path) and
+// keep the path: its rays stay in the group's packets. A path that reaches a material whose
+// weights read vertex attributes (which the lanes do not interpolate) is handed over
+// there, to trace_path() from that hit with the lane's state, and its lane ends. Other
+// scenes take trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA
 // build runs trace_path().
 #pragma once
 
@@ -111,6 +115,12 @@ struct LaneEnvTables {
   float marginal_integral = 0;              // > 0 where the tables are set
   int nu = 0, nv = 0;
 };
+/// Where the lanes run a material's vertices (LaneTriangles::lane_material).
+enum LaneMaterial : uint8_t {
+  kHandOver = 0,  // trace_path goes on from the hit: the material reads vertex attributes
+  kLaneLambert,   // one Lambert lobe, its albedo constant, RGB or a texture: across the lanes
+  kLaneBsdf,      // any other BSDF: built, sampled and evaluated lane by lane (bsdf_vertex)
+};
 struct LaneTriangles {
   const LaneShapeRow* shapes = nullptr;       // per root shape
   const LaneLightRow* lights = nullptr;       // per scene light
@@ -118,7 +128,7 @@ struct LaneTriangles {
   const LaneUvRow* uv = nullptr;              // null: no mesh's material reads uv
   const LaneNormalRow* normals = nullptr;     // null: no mesh has shading normals
   const LaneEnvTables* env = nullptr;         // per scene light (empty but for environment images)
-  const uint8_t* lane_material = nullptr;     // per material: 1 where the lanes run its vertices
+  const uint8_t* lane_material = nullptr;     // per material: its LaneMaterial
   bool any_quads = false;
 };
 /// Host storage of a LaneTriangles (build_lane_triangles).
@@ -266,28 +276,63 @@ inline void shading_frames(const V3& n, const V3& dpdu, V3* fx, V3* fy) {
   }
 }
 
-/// The lanes' path state between bounces (PathState's fields that Lambert vertices use:
-/// no specular, glossy or transmission events, η scale 1).
-struct Paths {
-  alignas(32) int32_t alive[W];  // -1: the path goes on; 0: it has ended
-  alignas(32) int32_t depth[W], diffuse_depth[W], last_segment[W];
-  alignas(32) float prev_pdf[W];
+/// PathState's fields as columns, lane k of each the state of path k.
+struct PathColumns {
+  alignas(32) int32_t depth[W], diffuse_depth[W], glossy_depth[W], transmission_depth[W];
+  alignas(32) int32_t last_segment[W], specular[W], any_non_specular[W];  // -1: true
+  alignas(32) float prev_pdf[W], eta_scale[W];
   V3Lanes prev_p, prev_n;
-  SpectrumLanes beta, L, L_direct;
-  EmissionCache emission[W];
+  SpectrumLanes beta;
   /// PathState of lane k, for the per-lane code shared with trace_path.
   PathState state(int k) const {
     PathState st;
     st.beta = beta.get(k);
+    st.eta_scale = eta_scale[k];
     st.depth = depth[k];
     st.diffuse_depth = diffuse_depth[k];
-    st.any_non_specular = depth[k] > 0;
+    st.glossy_depth = glossy_depth[k];
+    st.transmission_depth = transmission_depth[k];
+    st.specular_bounce = specular[k] != 0;
+    st.any_non_specular = any_non_specular[k] != 0;
     st.last_segment = last_segment[k] != 0;
     st.prev_pdf = prev_pdf[k];
     st.prev_p = prev_p.get(k);
     st.prev_n = prev_n.get(k);
     return st;
   }
+  void set_state(int k, const PathState& st) {
+    beta.set(k, st.beta);
+    eta_scale[k] = st.eta_scale;
+    depth[k] = st.depth;
+    diffuse_depth[k] = st.diffuse_depth;
+    glossy_depth[k] = st.glossy_depth;
+    transmission_depth[k] = st.transmission_depth;
+    specular[k] = st.specular_bounce ? -1 : 0;
+    any_non_specular[k] = st.any_non_specular ? -1 : 0;
+    last_segment[k] = st.last_segment ? -1 : 0;
+    prev_pdf[k] = st.prev_pdf;
+    prev_p.set(k, st.prev_p);
+    prev_n.set(k, st.prev_n);
+  }
+  /// Lanes `m` of every column from `o`.
+  void take(I32x8 m, const PathColumns& o) {
+    auto take_int = [&](int32_t(PathColumns::*f)[W]) { store(m ? load(o.*f) : load(this->*f), this->*f); };
+    auto take_float = [&](float(PathColumns::*f)[W]) { store(m ? load(o.*f) : load(this->*f), this->*f); };
+    take_int(&PathColumns::depth), take_int(&PathColumns::diffuse_depth), take_int(&PathColumns::glossy_depth);
+    take_int(&PathColumns::transmission_depth), take_int(&PathColumns::last_segment);
+    take_int(&PathColumns::specular), take_int(&PathColumns::any_non_specular);
+    take_float(&PathColumns::prev_pdf), take_float(&PathColumns::eta_scale);
+    prev_p.store(select(m, o.prev_p.load(), prev_p.load()));
+    prev_n.store(select(m, o.prev_n.load(), prev_n.load()));
+    for (int i = 0; i < kSpectrumSamples; ++i) store(m ? load(o.beta.v[i]) : load(beta.v[i]), beta.v[i]);
+  }
+};
+
+/// The lanes' paths between bounces: their states, and what they have gathered.
+struct Paths : PathColumns {
+  alignas(32) int32_t alive[W];  // -1: the path goes on; 0: it has ended
+  SpectrumLanes L, L_direct;
+  EmissionCache emission[W];
   /// PathOutput::add into the lanes' sums: light seen directly or via one bounce is
   /// direct.
   void add(int k, const SampledSpectrum& c, ContributionKind kind) {
@@ -314,6 +359,19 @@ struct Vertices {
   V3Lanes light_wi;
   alignas(32) float light_pdf[W];
   SpectrumLanes Le;
+};
+/// A bounce's vertices of materials whose BSDFs the lanes build, sample and evaluate lane
+/// by lane (bsdf_vertex): the next-event estimate up to its shadow ray, which joins the
+/// group's packet, and the path's state after the BSDF sample, which the lanes take once
+/// the group's estimates are added.
+struct BsdfVertices {
+  alignas(32) int32_t active[W];  // -1: the lane's vertex is one of these
+  alignas(32) int32_t nee[W];     // -1: a shadow ray, and c
+  alignas(32) int32_t alive[W];   // -1: the path goes on from `next`
+  SpectrumLanes c;                // what the estimate adds where the shadow ray is unoccluded
+  V3Lanes shadow_o, shadow_d, wi;
+  alignas(32) float shadow_tmax[W];
+  PathColumns next;
 };
 }  // namespace path_lanes_detail
 
@@ -394,6 +452,63 @@ inline void put(void* dst, const T& v) {
 
 #include "kauri/integrator/path_lanes_env.inl"
 
+namespace path_lanes_detail {
+
+/// Live lanes at least for a group to run kLaneBsdf vertices itself. Lane by lane, a BSDF
+/// vertex costs what trace_path's does, and the path's later rays join the group's
+/// packets; but a group left with a few long paths (glossy and specular bounces escape
+/// roulette) runs whole vector bounces for them, where trace_path, handed the path, runs
+/// one. Glossy bench scene, one thread, against every such path handed over at its first
+/// BSDF vertex (non-PGO builds, 96 × 96, 32 spp): none handed over 1.06× the time, those of
+/// groups of 2 or fewer live lanes 1.00×, 4 or fewer 0.977×, 6 or fewer 0.977×.
+inline constexpr int kBsdfLanesMin = W / 2 + 1;
+/// Whether a path at a vertex of kind `lm` goes on in trace_path (`sparse`: the group has
+/// fewer than kBsdfLanesMin live lanes).
+inline bool handed_over(uint8_t lm, bool sparse) { return lm == kHandOver || (lm == kLaneBsdf && sparse); }
+
+/// trace_path's vertex for lane k at the surface in `V`, of material `mat` (kLaneBsdf): the
+/// BSDF built, the albedo output, next-event estimation up to its shadow ray
+/// (direct_sample) and the BSDF sample with the path's next state (continue_path), into
+/// `G`; the shadow ray is tested in the group's packet and `G->next` taken after the
+/// bounce's estimates are added. `u`: the bounce's three pairs, `lc`: its light choice.
+/// False: the path ends at this vertex without scattering (a bounce budget is spent).
+/// Out of line: the Lambert vertices keep their registers.
+__attribute__((noinline)) inline bool bsdf_vertex(const SceneView& s, const IntegratorSettings& cfg,
+                                                  const MaterialView& mat, const Vertices& V, int k,
+                                                  SampledWavelengths& lambda, const Vec2 u[3],
+                                                  const path_detail::LightChoice& lc, bool scatters, Paths* P,
+                                                  PathOutput* out, BsdfVertices* G) {
+  const Point3 p = V.p.get(k);
+  const Normal3 ng = V.ng.get(k);
+  const Vec3 wo = V.wo.get(k);
+  const Frame frame = Frame::from_zx(V.ns.get(k), V.dpdu.get(k));
+  const Float no_attrs[kMaxVertexAttributes] = {0, 0, 0, 0};  // kHandOver: materials that read them
+  BSDF bsdf;
+  build_bsdf(mat, s.lobes, s.node_weights, ShadingInputs(no_attrs, Vec2{V.uv[0][k], V.uv[1][k]}, s.textures), frame,
+             ng, wo, lambda, &bsdf);
+  if (cfg.albedo_aov && !out->albedo_set && (bsdf.has_non_specular() || P->depth[k] + 1 >= cfg.max_depth)) {
+    out->albedo = bsdf.albedo(frame.to_local(wo));
+    out->albedo_set = true;
+  }
+  if (!scatters) return false;
+  path_detail::DirectSample ds;
+  G->nee[k] = 0;
+  if (bsdf.has_non_specular() && path_detail::direct_sample(s, p, ng, bsdf, wo, lambda, lc, &P->emission[k], &ds)) {
+    G->nee[k] = -1;
+    G->c.set(k, ds.c);
+    G->shadow_o.set(k, ds.shadow.o);
+    G->shadow_d.set(k, ds.shadow.d);
+    G->shadow_tmax[k] = ds.shadow.tmax;
+  }
+  const BSDFSample bs = bsdf.sample(wo, u[1].x, u[2], lambda, TransportMode::Radiance);
+  PathState st = P->state(k);
+  G->alive[k] = path_detail::continue_path(cfg, bs, p, frame.z, u[1].y, &st) ? -1 : 0;
+  G->next.set_state(k, st);
+  G->wi.set(k, bs.wi);
+  return true;
+}
+}  // namespace path_lanes_detail
+
 /// trace_path() for the n ≤ kPathLanes paths of a group, in vector lanes: camera rays
 /// `rays`, their closest hits `primary` / `primary_found`, wavelengths, samplers (left at
 /// the dimension trace_path leaves each) and outputs as trace_path's. The scene must be
@@ -406,12 +521,15 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   using namespace path_lanes_detail;
   Paths P;
   Vertices V{};
+  BsdfVertices G;
   alignas(32) float ray_o[3][W], ray_d[3][W], hit_t[W], hit_u[W], hit_v[W];
   alignas(32) int32_t hit_geom[W], hit_prim[W];
   for (int k = 0; k < W; ++k) {
     P.alive[k] = k < n ? -1 : 0;
-    P.depth[k] = P.diffuse_depth[k] = P.last_segment[k] = 0;
+    P.depth[k] = P.diffuse_depth[k] = P.glossy_depth[k] = P.transmission_depth[k] = 0;
+    P.last_segment[k] = P.specular[k] = P.any_non_specular[k] = 0;
     P.prev_pdf[k] = 0;
+    P.eta_scale[k] = 1;
     P.prev_p.set(k, Vec3{0, 0, 0});
     P.prev_n.set(k, Vec3{0, 0, 0});
     P.beta.set(k, SampledSpectrum(1));
@@ -542,12 +660,15 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     store((mesh & (shape_light >= 0)) ? shape_light + prim : ~I32x8{}, light);
     V.p.store(p), V.ng.store(ng), V.ns.store(ns), V.wo.store(wo), V.dpdu.store(dpdu);
     store(uv[0], V.uv[0]), store(uv[1], V.uv[1]);
+    // A group down to half its lanes or fewer hands its paths over at kLaneBsdf vertices
+    // (kBsdfLanesMin).
+    const bool sparse = __builtin_popcount(unsigned(mask_bits(alive))) < kBsdfLanesMin;
     const I32x8 analytic = alive & ~mesh;
     if (any(analytic)) {  // compute_surface_hit lane by lane
       for (int bits = mask_bits(analytic); bits;) {
         const int k = next_lane(&bits);
-        if (shape_material[k] >= 0 && !tris.lane_material[shape_material[k]]) {  // handed over below, where
-          material[k] = shape_material[k], light[k] = -1;                     // trace_path finds its surface
+        if (shape_material[k] >= 0 && handed_over(tris.lane_material[shape_material[k]], sparse)) {
+          material[k] = shape_material[k], light[k] = -1;  // handed over below, where trace_path finds its surface
           continue;
         }
         HitRecord h;
@@ -562,11 +683,13 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
 
     // Per lane: emission, the light choice, the BSDF's albedo, the sampler's values.
     store(I32x8{}, V.scatter), store(I32x8{}, V.nee), store(I32x8{}, V.env);
+    store(I32x8{}, G.active), store(I32x8{}, G.nee);
     for (int bits = mask_bits(alive); bits;) {
       const int k = next_lane(&bits);
       PathOutput& out = outs[k];
       const int hmat = material[k], hlight = light[k];
-      if (hmat >= 0 && !tris.lane_material[hmat]) {  // a vertex the lanes do not run: hand the path over
+      const LaneMaterial lm = hmat >= 0 ? LaneMaterial(tris.lane_material[hmat]) : kLaneLambert;
+      if (lm != kLaneLambert && handed_over(lm, sparse)) {  // hand the path over
         HitRecord h;
         h.t = t[k], h.u = hu[k], h.v = hv[k], h.geom = uint32_t(geom[k]), h.prim = uint32_t(prim[k]);
         const PathState st = P.state(k);
@@ -608,6 +731,11 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         continue;
       }
       const MaterialView& mat = s.materials[hmat];
+      if (lm == kLaneBsdf) {  // its BSDF lane by lane
+        if (bsdf_vertex(s, cfg, mat, V, k, lambda[k], u, lc, scatters, &P, &out, &G)) G.active[k] = -1;
+        else P.alive[k] = 0;
+        continue;
+      }
       const LobeParams& lobe = s.lobes[mat.first_lobe];
       const Float w_b = clamp(s.node_weights[mat.first_weight].value, 0, 1);
       // build_single_lobe's albedo: the texture's at the hit's uv, or the lobe's own.
@@ -656,8 +784,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       V.u_rr[k] = u[1].y;
       V.u_bsdf[0][k] = u[2].x, V.u_bsdf[1][k] = u[2].y;
     }
-    const I32x8 scatter = load(V.scatter);
-    if (!any(scatter)) break;  // every path ended at this bounce
+    const I32x8 scatter = load(V.scatter), bsdf_lanes = load(G.active);
+    if (!any(scatter | bsdf_lanes)) break;  // every path ended at this bounce
 
     // Across the lanes: the shading frame and ω_o in it.
     V3 fx, fy;
@@ -678,8 +806,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     // Next-event estimation (sample_direct): a point on the chosen triangle, or the
     // direction an infinite light's sample took.
     if (any(load(V.env))) sample_env_lights(s, tris, lambda, n, spectra, V);
-    const I32x8 nee = load(V.nee);
-    if (any(nee)) {
+    const I32x8 nee = load(V.nee), bsdf_nee = load(G.nee) & bsdf_lanes;
+    if (any(nee | bsdf_nee)) {
       const I32x8 dir = nee & load(V.light_dir);
       const F32x8 ux = load(V.u_light[0]), uy = load(V.u_light[1]);
       const I32x8 lower = ux < uy;
@@ -715,14 +843,20 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         any_L |= Le != 0;
         c[i] = f * Le * wm;
       }
-      const I32x8 test = nee & (dir | (d2 > 0)) & (pdf_l > 0) & emits & any_f & any_L;
+      if (any(bsdf_nee))
+        for (int i = 0; i < kSpectrumSamples; ++i) c[i] = bsdf_nee ? load(G.c.v[i]) : c[i];
+      const I32x8 test = (nee & (dir | (d2 > 0)) & (pdf_l > 0) & emits & any_f & any_L) | bsdf_nee;
       if (any(test)) {
         ray_count += test & 1;
         // spawn_ray_to: from the offset origin to just short of the light point; spawn_ray
-        // towards an infinite light.
-        const V3 so = offset_ray_origin(p, side_normal(ng, select(dir, wi, dl)));
-        const V3 sd = select(dir, wi, pl - so);
-        const F32x8 stmax = dir ? splat(kInfinity) : splat(1 - 1e-4f);
+        // towards an infinite light. The BSDF lanes' rays as direct_sample spawned them.
+        V3 so = offset_ray_origin(p, side_normal(ng, select(dir, wi, dl)));
+        V3 sd = select(dir, wi, pl - so);
+        F32x8 stmax = dir ? splat(kInfinity) : splat(1 - 1e-4f);
+        if (any(bsdf_nee)) {
+          so = select(bsdf_nee, G.shadow_o.load(), so), sd = select(bsdf_nee, G.shadow_d.load(), sd);
+          stmax = bsdf_nee ? load(G.shadow_tmax) : stmax;
+        }
         put(shadow.org_x, so.x), put(shadow.org_y, so.y), put(shadow.org_z, so.z);
         put(shadow.dir_x, sd.x), put(shadow.dir_y, sd.y), put(shadow.dir_z, sd.z);
         put(shadow.tfar, stmax);
@@ -765,10 +899,10 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     // record_scatter of a diffuse reflection, then Russian roulette (trace_path).
     const I32x8 depth = load(P.depth) + (alive & 1), diffuse = load(P.diffuse_depth) + (alive & 1);
     const I32x8 last = load(P.last_segment) | (alive & ~((diffuse <= cfg.max_diffuse) &
-                                                        (I32x8{} <= cfg.max_glossy) &
-                                                        (I32x8{} <= cfg.max_transmission)));
+                                                        (load(P.glossy_depth) <= cfg.max_glossy) &
+                                                        (load(P.transmission_depth) <= cfg.max_transmission)));
     const I32x8 roulette = alive & ~last & (diffuse >= cfg.rr_min_depth);
-    const F32x8 q = rr_survival(beta_max);
+    const F32x8 q = rr_survival(beta_max * load(P.eta_scale));  // refraction's scale removed
     alive &= ~(roulette & ~(load(V.u_rr) < q));
     const F32x8 inv_q = roulette ? 1 / (q > 0 ? q : splat(1)) : splat(1);
     I32x8 finite = ~I32x8{};
@@ -782,12 +916,20 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     store(depth, P.depth);
     store(diffuse, P.diffuse_depth);
     store(last, P.last_segment);
+    store(I32x8{}, P.specular);
+    store(load(P.any_non_specular) | alive, P.any_non_specular);
     store(alive ? pdf : load(P.prev_pdf), P.prev_pdf);
     P.prev_p.store(p);
     P.prev_n.store(ns);
+    V3 wi_next = wi;
+    if (any(bsdf_lanes)) {  // the BSDF lanes' paths go on from their sampled states
+      P.take(bsdf_lanes, G.next);
+      store(bsdf_lanes ? load(G.alive) : alive, P.alive);
+      wi_next = select(bsdf_lanes, G.wi.load(), wi);
+    }
     // spawn_ray: the next ray leaves the offset origin on ω_i's side.
-    o = offset_ray_origin(p, side_normal(ng, wi));
-    d = wi;
+    o = offset_ray_origin(p, side_normal(ng, wi_next));
+    d = wi_next;
   }
   alignas(32) int32_t ray_lane[W];
   store(ray_count, ray_lane);

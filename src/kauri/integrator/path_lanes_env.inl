@@ -133,8 +133,8 @@ inline void env_radiance(const Light& l, F32x8 u, F32x8 v, I32x8 m, const LaneSp
 }
 
 /// escaped_radiance_of for environment image `l` (light `li`) over the lanes in `m`, whose
-/// paths have bounced at least once (depth > 0: the MIS weight applies; the lanes have no
-/// specular bounces): Le (env_texel_radiance) and the density (env_pdf, from the light's
+/// paths have bounced at least once (depth > 0: the MIS weight applies, but after a
+/// specular bounce, emission_needs_mis): Le (env_texel_radiance) and the density (env_pdf, from the light's
 /// LaneEnvTables `t`) along `w`, then β · Le · w_MIS added to the paths as emission
 /// (Paths::add).
 __attribute__((noinline)) inline void add_env_escaped(const SceneView& s, const Light& l, int li,
@@ -159,7 +159,7 @@ __attribute__((noinline)) inline void add_env_escaped(const SceneView& s, const 
   env_radiance(l, u, v, m, spectra, Le);
   // The MIS weight against next-event estimation, and Paths::add (emission after one
   // bounce is direct).
-  const F32x8 w_mis = power_heuristic(load(P.prev_pdf), s.light_distribution.discrete_pmf(li) * pdf);
+  const F32x8 w_mis = load(P.specular) ? splat(1) : power_heuristic(load(P.prev_pdf), s.light_distribution.discrete_pmf(li) * pdf);
   const I32x8 direct = load(P.depth) <= 1;
   for (int i = 0; i < kSpectrumSamples; ++i) {
     const F32x8 add = m ? load(P.beta.v[i]) * Le[i] * w_mis : F32x8{};

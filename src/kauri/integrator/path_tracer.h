@@ -65,31 +65,46 @@ KAURI_HOST_DEVICE inline LightChoice choose_light(const SceneView& s, const Inte
   return c;
 }
 
-/// One next-event estimate from `hit` with the BSDF `bsdf`, towards the light `c` chose.
-template <class Accel>
-KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel& accel, const IntegratorSettings& cfg,
-                                                const SurfaceHit& hit, const BSDF& bsdf, Vec3 wo,
-                                                const SampledWavelengths& lambda, const LightChoice& c,
-                                                EmissionCache* emission, uint32_t* rays) {
+/// A next-event estimate before its shadow ray: what it adds if `shadow` is unoccluded.
+struct DirectSample {
+  SampledSpectrum c;  // f |cos θ_i| Le w / p
+  Ray shadow;
+};
+
+/// Next-event estimation's sample at a vertex (point p, geometric normal ng) of BSDF `bsdf`,
+/// towards the light `c` chose, up to its shadow ray: false where it adds nothing (no light,
+/// a zero density or radiance, a zero BSDF value), and no shadow ray is traced. Shared by
+/// trace_path and the path lanes (which test the shadow rays of a group in one packet).
+KAURI_HOST_DEVICE inline bool direct_sample(const SceneView& s, Point3 p, Normal3 ng, const BSDF& bsdf, Vec3 wo,
+                                            const SampledWavelengths& lambda, const LightChoice& c,
+                                            EmissionCache* emission, DirectSample* out) {
   const int li = c.light;
-  const Float pmf = c.pmf;
-  const Vec2 u = c.u;
-  if (li < 0 || !(pmf > 0)) return SampledSpectrum(0);
+  if (li < 0 || !(c.pmf > 0)) return false;
   const Light& light = s.lights[li];
   // A material light's Le is only a power estimate, replaced by its EDFs below: it stays
   // out of the path's cache.
-  LightSample ls = sample_light(light, hit.p, u, lambda, kNextEventDensity, light.material >= 0 ? nullptr : emission);
+  LightSample ls = sample_light(light, p, c.u, lambda, kNextEventDensity, light.material >= 0 ? nullptr : emission);
   if (light.material >= 0 && ls.pdf > 0) ls.L = material_emission(s, light.material, ls.n_light, -ls.wi, lambda);
-  if (!(ls.pdf > 0) || ls.L.is_black()) return SampledSpectrum(0);
+  if (!(ls.pdf > 0) || ls.L.is_black()) return false;
   Float bsdf_pdf;
-  SampledSpectrum f = bsdf.eval_pdf(wo, ls.wi, TransportMode::Radiance, &bsdf_pdf) * absdot(ls.wi, bsdf.frame.z);
-  if (f.is_black()) return SampledSpectrum(0);
+  const SampledSpectrum f = bsdf.eval_pdf(wo, ls.wi, TransportMode::Radiance, &bsdf_pdf) * absdot(ls.wi, bsdf.frame.z);
+  if (f.is_black()) return false;
+  const Float p_l = c.pmf * ls.pdf;
+  const Float w = ls.delta ? Float(1) : power_heuristic(p_l, bsdf_pdf);
+  out->c = f * ls.L * (w / p_l);
+  out->shadow = ls.infinite ? spawn_ray(p, ng, ls.wi) : spawn_ray_to(p, ng, ls.p_light);
+  return true;
+}
+
+/// One next-event estimate from `hit` with the BSDF `bsdf`, towards the light `c` chose.
+template <class Accel>
+KAURI_HOST_DEVICE SampledSpectrum sample_direct(const SceneView& s, const Accel& accel, const SurfaceHit& hit,
+                                                const BSDF& bsdf, Vec3 wo, const SampledWavelengths& lambda,
+                                                const LightChoice& c, EmissionCache* emission, uint32_t* rays) {
+  DirectSample ds;
+  if (!direct_sample(s, hit.p, hit.ng, bsdf, wo, lambda, c, emission, &ds)) return SampledSpectrum(0);
   ++*rays;
-  Ray shadow = ls.infinite ? spawn_ray(hit.p, hit.ng, ls.wi) : spawn_ray_to(hit.p, hit.ng, ls.p_light);
-  if (accel.occluded(shadow)) return SampledSpectrum(0);
-  Float p_l = pmf * ls.pdf;
-  Float w = ls.delta ? Float(1) : power_heuristic(p_l, bsdf_pdf);
-  return f * ls.L * (w / p_l);
+  return accel.occluded(ds.shadow) ? SampledSpectrum(0) : ds.c;
 }
 
 /// A light the camera ray meets directly adds its colour in the output space (Le_rgb), the
@@ -168,6 +183,34 @@ KAURI_HOST_DEVICE inline Float rr_survival(Float beta_max) {
   if (!(beta_max > 0)) return 0;
   if (beta_max >= 1) return 1;
   return cbrt_unit(beta_max);
+}
+
+/// The path's state after its vertex at p (shading normal ns) scattered by the BSDF sample
+/// `bs`: throughput, the MIS inputs of the next emitter hit, the bounce budgets, and Russian
+/// roulette by `u_rr`. False: the path ends here. Shared by trace_path and the path lanes.
+///
+/// Russian roulette acts on the throughput, with radiance-scale from refraction removed,
+/// once the path has made rr_min_depth diffuse bounces. Glossy and specular bounces do
+/// not count: they keep light concentrated, and killing such paths in proportion to
+/// their throughput cost the glossy bench scene 18% more variance for 3.5% fewer rays
+/// (the bounce budgets still bound them). A last segment (a budget ran out) is traced
+/// whatever its throughput, so rr_min_depth > max_diffuse means no roulette at all.
+KAURI_HOST_DEVICE inline bool continue_path(const IntegratorSettings& cfg, const BSDFSample& bs, Point3 p, Normal3 ns,
+                                            Float u_rr, PathState* st) {
+  if (!bs.valid() || bs.f.is_black()) return false;
+  st->beta *= bs.f * (absdot(bs.wi, ns) / bs.pdf);
+  st->prev_pdf = bs.pdf;
+  st->prev_p = p;
+  st->prev_n = ns;
+  if (bs.transmission) st->eta_scale *= sqr(bs.eta);
+  ++st->depth;
+  if (!st->record_scatter(bs, cfg)) st->last_segment = true;
+  if (!st->last_segment && st->diffuse_depth >= cfg.rr_min_depth) {
+    const Float p_survive = rr_survival((st->beta * st->eta_scale).max_value());
+    if (!(u_rr < p_survive)) return false;
+    st->beta *= 1 / p_survive;
+  }
+  return st->beta.is_finite();
 }
 
 }  // namespace path_detail
@@ -257,34 +300,14 @@ KAURI_HOST_DEVICE void trace_path(const SceneView& s, const Accel& accel, const 
 
     if (bsdf.has_non_specular()) {
       SampledSpectrum Ld =
-          path_detail::sample_direct(s, accel, cfg, hit, bsdf, wo, lambda, light_choice, &emission, &out->rays);
+          path_detail::sample_direct(s, accel, hit, bsdf, wo, lambda, light_choice, &emission, &out->rays);
       out->add(st.beta * Ld, st, ContributionKind::DirectLight);
     }
 
     const Vec2 u_lobe_rr = sampler.get_2d();
     Vec2 u = sampler.get_2d();
     BSDFSample bs = bsdf.sample(wo, u_lobe_rr.x, u, lambda, TransportMode::Radiance);
-    if (!bs.valid() || bs.f.is_black()) break;
-    st.beta *= bs.f * (absdot(bs.wi, frame.z) / bs.pdf);
-    st.prev_pdf = bs.pdf;
-    st.prev_p = hit.p;
-    st.prev_n = hit.ns;
-    if (bs.transmission) st.eta_scale *= sqr(bs.eta);
-    ++st.depth;
-    if (!st.record_scatter(bs, cfg)) st.last_segment = true;
-
-    // Russian roulette on the throughput, with radiance-scale from refraction removed,
-    // once the path has made rr_min_depth diffuse bounces. Glossy and specular bounces do
-    // not count: they keep light concentrated, and killing such paths in proportion to
-    // their throughput cost the glossy bench scene 18% more variance for 3.5% fewer rays
-    // (the bounce budgets still bound them). A last segment (a budget ran out) is traced
-    // whatever its throughput, so rr_min_depth > max_diffuse means no roulette at all.
-    if (!st.last_segment && st.diffuse_depth >= cfg.rr_min_depth) {
-      Float p = path_detail::rr_survival((st.beta * st.eta_scale).max_value());
-      if (!(u_lobe_rr.y < p)) break;
-      st.beta *= 1 / p;
-    }
-    if (!st.beta.is_finite()) break;
+    if (!path_detail::continue_path(cfg, bs, hit.p, frame.z, u_lobe_rr.y, &st)) break;
     ray = spawn_ray(hit.p, hit.ng, bs.wi);
   }
 }
