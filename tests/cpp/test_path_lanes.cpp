@@ -42,8 +42,9 @@ MeshDesc quad(const std::string& name, std::initializer_list<float> p, int mater
 /// bent per-vertex normals and a rotated uv layout; `two_sided`: the light emits both ways.
 /// Materials the lanes do not run across the vector: a rough gold sphere, a rough glass
 /// sphere with dispersion, a smooth glass quad and a layered (two-lobe) wall, whose BSDFs
-/// the lanes build and sample lane by lane (kLaneBsdf), and a wall whose lobe weight reads a
-/// vertex attribute, where the path goes on one at a time from the hit (kHandOver).
+/// the lanes build and sample lane by lane (kLaneBsdf), the gold and a brushed copper patch
+/// (kLaneConductor, across the lanes), and a wall whose lobe weight reads a vertex
+/// attribute, where the path goes on one at a time from the hit (kHandOver).
 void add_other_materials(Scene& s) {
   MaterialDesc gold = lambert("gold", {1, 1, 1});
   gold.lobes[0].type = LobeType::GGXConductor;
@@ -79,6 +80,22 @@ void add_other_materials(Scene& s) {
   s.add_mesh(0, quad("pane", {-0.6f, 0.9f, 0.6f, 0.6f, 0.9f, 0.6f, 0.6f, 1.4f, 0.2f, -0.6f, 1.4f, 0.2f}, s.add_material(pane)));
   s.add_mesh(0, quad("sheen_patch", {-0.99f, 0.3f, 0.5f, -0.99f, 0.3f, -0.5f, -0.99f, 1.2f, -0.5f, -0.99f, 1.2f, 0.5f},
                      s.add_material(two)));
+  // Brushed copper (RGB η and κ, anisotropic, without the multiple-scattering term) on a
+  // quad with bent shading normals: the conductor lanes' frame, the ggx_conductor@1 lobe
+  // and the shading-normal correction.
+  MaterialDesc brushed = lambert("brushed", {1, 1, 1});
+  brushed.lobes[0].type = LobeType::GGXConductor;
+  brushed.lobes[0].eta_rgb = {0.27f, 0.68f, 1.22f};
+  brushed.lobes[0].k_rgb = {3.6f, 2.6f, 2.3f};
+  brushed.lobes[0].roughness = 0.45f;
+  brushed.lobes[0].anisotropy = 0.7f;
+  brushed.lobes[0].compensate = false;
+  brushed.lobes[0].weight.value = 0.8f;
+  MeshDesc floor_patch = quad("brushed_patch", {-0.8f, 0.02f, 0.9f, -0.1f, 0.02f, 0.9f, -0.1f, 0.02f, 0.3f, -0.8f, 0.02f, 0.3f},
+                              s.add_material(brushed));
+  floor_patch.normals = {0.2f, 1, 0.1f, -0.1f, 1, 0.2f, 0.1f, 1, -0.2f, -0.2f, 1, 0};
+  floor_patch.uvs = {0, 0, 1, 0, 1, 1, 0, 1};
+  s.add_mesh(0, floor_patch);
   MaterialDesc worn = lambert("worn", {0.3f, 0.6f, 0.9f});
   worn.lobes[0].weight.attribute = "wear";
   MeshDesc patch = quad("worn_patch", {0.99f, 0.3f, -0.5f, 0.99f, 0.3f, 0.5f, 0.99f, 1.2f, 0.5f, 0.99f, 1.2f, -0.5f},
@@ -224,9 +241,10 @@ TEST(PathLanes, WhereEachMaterialsVerticesRun) {
   add_box(s, false, false);
   add_other_materials(s);
   const LaneTrianglesStore t = build_lane_triangles(s.compile(8, 8)->view(), {});
-  // white, red, green, dark (w_b = 0); gold, glass, pane, sheen over Lambert; the worn wall.
-  const std::vector<uint8_t> expected = {kLaneLambert, kLaneLambert, kLaneLambert, kLaneLambert, kLaneBsdf,
-                                         kLaneBsdf,    kLaneBsdf,    kLaneBsdf,    kHandOver};
+  // white, red, green, dark (w_b = 0); gold, glass, pane, sheen over Lambert, brushed
+  // copper; the worn wall.
+  const std::vector<uint8_t> expected = {kLaneLambert, kLaneLambert, kLaneLambert,   kLaneLambert, kLaneConductor,
+                                         kLaneBsdf,    kLaneBsdf,    kLaneBsdf,      kLaneConductor, kHandOver};
   EXPECT_EQ(t.lane_material, expected);
 }
 

@@ -6,8 +6,8 @@
 namespace kauri {
 
 namespace {
-/// Where the lanes run the vertices of `material` (LaneMaterial): one Lambert lobe with a
-/// constant weight across the lanes; any other BSDF whose weights read no vertex attribute
+/// Where the lanes run the vertices of `material` (LaneMaterial): one Lambert lobe or one
+/// rough GGX conductor lobe with a constant weight across the lanes; any other BSDF whose weights read no vertex attribute
 /// (the lanes do not interpolate them) lane by lane; the rest, and emissive materials (whose
 /// lights path_lanes_supported leaves out), handed over to trace_path.
 LaneMaterial lane_material(const SceneView& s, int material) {
@@ -16,7 +16,13 @@ LaneMaterial lane_material(const SceneView& s, int material) {
   for (int i = 0; i < m.front.n_nodes; ++i)  // one weight a node (the back program shares them)
     if (s.node_weights[m.first_weight + i].attribute >= 0) return kHandOver;
   const LobeParams* params = s.lobes + m.first_lobe;
-  return material_detail::single_lobe(m, params) && params[0].type == LobeType::Lambert ? kLaneLambert : kLaneBsdf;
+  if (!material_detail::single_lobe(m, params)) return kLaneBsdf;
+  const LobeParams& l = params[0];
+  if (l.type == LobeType::Lambert) return kLaneLambert;
+  // A rough GGX conductor (a mirror's specular bounce and Beckmann's sampler stay scalar).
+  const bool rough = !MicrofacetDistribution{l.alpha_x, l.alpha_y, l.microfacet}.effectively_smooth();
+  if (l.type == LobeType::GGXConductor && l.microfacet == MicrofacetType::GGX && rough) return kLaneConductor;
+  return kLaneBsdf;
 }
 }  // namespace
 

@@ -119,6 +119,7 @@ struct LaneEnvTables {
 enum LaneMaterial : uint8_t {
   kHandOver = 0,  // trace_path goes on from the hit: the material reads vertex attributes
   kLaneLambert,   // one Lambert lobe, its albedo constant, RGB or a texture: across the lanes
+  kLaneConductor, // one rough GGX conductor lobe: across the lanes (path_lanes_conductor.inl)
   kLaneBsdf,      // any other BSDF: built, sampled and evaluated lane by lane (bsdf_vertex)
 };
 struct LaneTriangles {
@@ -345,11 +346,12 @@ struct Paths : PathColumns {
 /// A bounce's vertices: what the per-lane part finds for the vector part.
 struct Vertices {
   alignas(32) int32_t scatter[W];   // -1: the lane samples light and its BSDF
+  alignas(32) int32_t conductor[W]; // -1: that BSDF is a GGX conductor (else Lambert)
   alignas(32) int32_t nee[W];       // -1: next-event estimation has a light
   V3Lanes p, ng, ns, wo, dpdu;
   alignas(32) float uv[2][W];
   SpectrumLanes albedo;              // w_b · ρ(λ)
-  alignas(32) float u_light[2][W], u_rr[W], u_bsdf[2][W];
+  alignas(32) float u_light[2][W], u_lobe[W], u_rr[W], u_bsdf[2][W];
   alignas(32) float light_pmf[W];
   alignas(32) int32_t light_index[W];  // a triangle light's row (LaneTriangles::lights)
   // An infinite light's sample (sample_light, lane by lane): −1 in light_dir, its direction
@@ -453,6 +455,26 @@ inline void put(void* dst, const T& v) {
 #include "kauri/integrator/path_lanes_env.inl"
 
 namespace path_lanes_detail {
+#include "kauri/integrator/path_lanes_conductor.inl"
+
+/// The per-lane part of lane k's kLaneConductor vertex: the lobe build_single_lobe makes
+/// (η, κ and F_ms at the lane's wavelengths) into C, and its albedo times w_b where the
+/// albedo output asks for it (`aov`). Out of line: the Lambert vertices keep their registers.
+__attribute__((noinline)) inline SampledSpectrum conductor_lane(const SceneView& s, const LobeParams& lobe, Float w_b,
+                                                                const Vertices& V, int k,
+                                                                const SampledWavelengths& lambda, bool aov,
+                                                                ConductorVertices* C) {
+  const Float no_attrs[kMaxVertexAttributes] = {0, 0, 0, 0};
+  const ShadingInputs sp(no_attrs, Vec2{V.uv[0][k], V.uv[1][k]}, s.textures);
+  GGXConductorLobe c = material_detail::instantiate(lobe, sp, lambda).conductor;
+  c.cache_multiple_scattering();
+  C->set(k, c, w_b);
+  if (!aov) return SampledSpectrum(0);
+  return c.albedo_r(Frame::from_zx(V.ns.get(k), V.dpdu.get(k)).to_local(V.wo.get(k))) * w_b;
+}
+}  // namespace path_lanes_detail
+
+namespace path_lanes_detail {
 
 /// Live lanes at least for a group to run kLaneBsdf vertices itself. Lane by lane, a BSDF
 /// vertex costs what trace_path's does, and the path's later rays join the group's
@@ -522,6 +544,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   Paths P;
   Vertices V{};
   BsdfVertices G;
+  ConductorVertices C;  // read only in the lanes of V.conductor
   alignas(32) float ray_o[3][W], ray_d[3][W], hit_t[W], hit_u[W], hit_v[W];
   alignas(32) int32_t hit_geom[W], hit_prim[W];
   for (int k = 0; k < W; ++k) {
@@ -682,7 +705,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     }
 
     // Per lane: emission, the light choice, the BSDF's albedo, the sampler's values.
-    store(I32x8{}, V.scatter), store(I32x8{}, V.nee), store(I32x8{}, V.env);
+    store(I32x8{}, V.scatter), store(I32x8{}, V.conductor), store(I32x8{}, V.nee), store(I32x8{}, V.env);
     store(I32x8{}, G.active), store(I32x8{}, G.nee);
     for (int bits = mask_bits(alive); bits;) {
       const int k = next_lane(&bits);
@@ -745,8 +768,9 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
                w_b;
       };
       const bool aov = cfg.albedo_aov && !out.albedo_set && (w_b > 0 || P.depth[k] + 1 >= cfg.max_depth);
+      const bool conductor = lm == kLaneConductor;
       SampledSpectrum a(0);
-      if (w_b > 0 && (aov || scatters)) a = albedo();
+      if (w_b > 0 && (aov || scatters)) a = conductor ? conductor_lane(s, lobe, w_b, V, k, lambda[k], aov, &C) : albedo();
       if (aov) {
         out.albedo = a;
         out.albedo_set = true;
@@ -756,7 +780,12 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         continue;
       }
       V.scatter[k] = -1;
-      V.albedo.set(k, a);
+      if (conductor) {
+        V.conductor[k] = -1;
+        V.u_lobe[k] = u[1].x;
+      } else {
+        V.albedo.set(k, a);
+      }
       if (lc.light >= 0 && lc.pmf > 0) {
         const Light& l = s.lights[lc.light];
         V.nee[k] = -1;
@@ -802,6 +831,12 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       const I32x8 geo = wo_ng * dot(wi, ng) > 0;
       return same & ~(same ^ geo) & (wo_l.z != 0);
     };
+    // shading_normal_correction: ω_o, ω_i on one side by the geometric normal as by the
+    // shading frame (both reflection, or both not).
+    auto same_side = [&](const V3& wi, const V3& wi_l) {
+      return ~((wo_l.z * wi_l.z > 0) ^ (wo_ng * dot(wi, ng) > 0));
+    };
+    const I32x8 conductor_lanes = load(V.conductor);
 
     // Next-event estimation (sample_direct): a point on the chosen triangle, or the
     // direction an infinite light's sample took.
@@ -829,15 +864,24 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       const I32x8 emits = dir | (I32x8)lr[13] | (dot(nl, -wi) > 0);
       const V3 wi_l{dot(wi, fx), dot(wi, fy), dot(wi, fz)};
       const I32x8 reflects = lambert_mask(wi, wi_l);
-      const F32x8 pdf_b = (wo_l.z * wi_l.z > 0) ? vabs(wi_l.z) * kInvPi : F32x8{};
+      F32x8 pdf_b = (wo_l.z * wi_l.z > 0) ? vabs(wi_l.z) * kInvPi : F32x8{};
       const F32x8 cos_i = vabs(dot(wi, fz));
+      F32x8 f_nee[kSpectrumSamples];  // f |cos θ_i|
+      for (int i = 0; i < kSpectrumSamples; ++i) f_nee[i] = reflects ? albedo[i] * cos_i : F32x8{};
+      const I32x8 nee_conductor = nee & conductor_lanes;
+      if (any(nee_conductor)) {
+        F32x8 f_c[kSpectrumSamples], pdf_c;
+        conductor_eval_pdf(C, wo_l, wi_l, nee_conductor, same_side(wi, wi_l), f_c, &pdf_c);
+        pdf_b = nee_conductor ? pdf_c : pdf_b;
+        for (int i = 0; i < kSpectrumSamples; ++i) f_nee[i] = nee_conductor ? f_c[i] * cos_i : f_nee[i];
+      }
       const F32x8 p_light = load(V.light_pmf) * pdf_l;
       const F32x8 w_mis = (dir & load(V.light_delta)) ? splat(1) : power_heuristic(p_light, pdf_b);
       const F32x8 wm = w_mis / (p_light > 0 ? p_light : splat(1));
       I32x8 any_f{}, any_L{};
       F32x8 c[kSpectrumSamples];
       for (int i = 0; i < kSpectrumSamples; ++i) {
-        const F32x8 f = reflects ? albedo[i] * cos_i : F32x8{};
+        const F32x8 f = f_nee[i];
         const F32x8 Le = load(V.Le.v[i]);
         any_f |= f != 0;
         any_L |= Le != 0;
@@ -880,26 +924,46 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     }
 
     // The BSDF sample: a cosine-weighted direction on ω_o's side.
-    V3 wi_l = sample_cosine_hemisphere(load(V.u_bsdf[0]), load(V.u_bsdf[1]));
+    const F32x8 ux = load(V.u_bsdf[0]), uy = load(V.u_bsdf[1]);
+    V3 wi_l = sample_cosine_hemisphere(ux, uy);
     wi_l.z = wo_l.z < 0 ? -wi_l.z : wi_l.z;
-    const F32x8 pdf = vabs(wi_l.z) * kInvPi;
-    const V3 wi = fx * wi_l.x + fy * wi_l.y + fz * wi_l.z;
+    F32x8 pdf = vabs(wi_l.z) * kInvPi;
+    V3 wi = fx * wi_l.x + fy * wi_l.y + fz * wi_l.z;
     const I32x8 reflects = lambert_mask(wi, wi_l) & (pdf > 0);
+    // A conductor's sample (GGXConductorLobe::sample), valued at its direction.
+    const I32x8 sample_conductor = scatter & conductor_lanes;
+    F32x8 f_sample[kSpectrumSamples];
+    for (int i = 0; i < kSpectrumSamples; ++i) f_sample[i] = reflects ? albedo[i] : F32x8{};
+    if (any(sample_conductor)) {
+      F32x8 f_c[kSpectrumSamples];
+      V3 wc_l;
+      const I32x8 ok = conductor_sample(C, wo_l, load(V.u_lobe), ux, uy, sample_conductor, &wc_l);
+      const V3 wc = fx * wc_l.x + fy * wc_l.y + fz * wc_l.z;
+      F32x8 pdf_c;
+      conductor_eval_pdf(C, wo_l, wc_l, ok, same_side(wc, wc_l), f_c, &pdf_c);
+      const I32x8 valid = ok & (pdf_c > 0);
+      for (int i = 0; i < kSpectrumSamples; ++i)
+        f_sample[i] = sample_conductor ? (valid ? f_c[i] : F32x8{}) : f_sample[i];
+      wi_l = select(sample_conductor, wc_l, wi_l), wi = select(sample_conductor, wc, wi);
+      pdf = sample_conductor ? pdf_c : pdf;
+    }
     const F32x8 cos_over_pdf = vabs(dot(wi, fz)) / (pdf > 0 ? pdf : splat(1));
     F32x8 beta[kSpectrumSamples];
     I32x8 any_f{};
     F32x8 beta_max{};
     for (int i = 0; i < kSpectrumSamples; ++i) {
-      const F32x8 f = reflects ? albedo[i] : F32x8{};
+      const F32x8 f = f_sample[i];
       any_f |= f != 0;
       beta[i] = load(P.beta.v[i]) * (f * cos_over_pdf);
       beta_max = i == 0 ? beta[i] : vmax(beta_max, beta[i]);
     }
     alive = scatter & any_f;
-    // record_scatter of a diffuse reflection, then Russian roulette (trace_path).
-    const I32x8 depth = load(P.depth) + (alive & 1), diffuse = load(P.diffuse_depth) + (alive & 1);
-    const I32x8 last = load(P.last_segment) | (alive & ~((diffuse <= cfg.max_diffuse) &
-                                                        (load(P.glossy_depth) <= cfg.max_glossy) &
+    // record_scatter of a diffuse (Lambert) or glossy (conductor) reflection, then Russian
+    // roulette (trace_path).
+    const I32x8 depth = load(P.depth) + (alive & 1);
+    const I32x8 diffuse = load(P.diffuse_depth) + (alive & ~sample_conductor & 1);
+    const I32x8 glossy = load(P.glossy_depth) + (alive & sample_conductor & 1);
+    const I32x8 last = load(P.last_segment) | (alive & ~((diffuse <= cfg.max_diffuse) & (glossy <= cfg.max_glossy) &
                                                         (load(P.transmission_depth) <= cfg.max_transmission)));
     const I32x8 roulette = alive & ~last & (diffuse >= cfg.rr_min_depth);
     const F32x8 q = rr_survival(beta_max * load(P.eta_scale));  // refraction's scale removed
@@ -915,6 +979,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     store(alive, P.alive);
     store(depth, P.depth);
     store(diffuse, P.diffuse_depth);
+    store(glossy, P.glossy_depth);
     store(last, P.last_segment);
     store(I32x8{}, P.specular);
     store(load(P.any_non_specular) | alive, P.any_non_specular);

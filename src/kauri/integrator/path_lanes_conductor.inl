@@ -1,0 +1,160 @@
+// GGX conductors across the path lanes (kLaneConductor vertices): GGXConductorLobe's
+// eval_pdf and sample (Torrance–Sparrow single scattering with the spectral Fresnel of a
+// complex IOR, Heitz 2014's height-correlated Smith G2, visible-normal sampling by
+// spherical caps (Dupuy & Benyoub 2023), and Kulla & Conty 2017's multiple-scattering
+// term with its cosine-sampled share) over 8 lanes, with the lone-lobe BSDF's weight and
+// shading-normal correction (BSDF::eval_pdf_lobes, BSDF::sample_lobes). The same
+// operations as the scalar lobe, lane by lane; each lane's η, κ, α, F_ms and E_avg are the
+// scalar lobe's own (instantiate and cache_multiple_scattering, once a vertex in the
+// per-lane part). Included by path_lanes.h inside path_lanes_detail.
+
+/// The conductor lanes' lobes of a bounce: what GGXConductorLobe holds, as columns.
+struct ConductorVertices {
+  SpectrumLanes eta, k, F_ms;
+  alignas(32) float alpha_x[W], alpha_y[W], r[W], E_avg[W], w_b[W];
+  alignas(32) int32_t compensated[W];  // -1: the Kulla–Conty term
+  void set(int lane, const GGXConductorLobe& c, Float w) {
+    eta.set(lane, c.eta), k.set(lane, c.k);
+    alpha_x[lane] = c.mf.alpha_x, alpha_y[lane] = c.mf.alpha_y;
+    r[lane] = c.table_roughness();
+    compensated[lane] = c.compensated() ? -1 : 0;
+    E_avg[lane] = c.compensated() ? c.E_avg() : 0;
+    F_ms.set(lane, c.compensated() ? c.F_ms(E_avg[lane]) : SampledSpectrum(0));
+    w_b[lane] = w;
+  }
+};
+
+/// 1 / √x as kauri::rsqrt: the estimate and one Newton step, 1 / √x outside the normal range.
+inline F32x8 rsqrt_newton(F32x8 x) {
+  const F32x8 y = F32x8(_mm256_rsqrt_ps(__m256(x)));
+  const F32x8 r = y * (Float(1.5f) - Float(0.5f) * x * y * y);
+  const I32x8 normal = (x >= Float(1.17549435e-38f)) & (x <= Float(3.40282347e38f));
+  if (_mm256_testc_si256(__m256i(normal), _mm256_set1_epi32(-1))) return r;
+  return normal ? r : 1 / vsqrt(x);
+}
+inline V3 normalize_newton(const V3& a) { return a * rsqrt_newton(dot(a, a)); }
+
+/// microfacet_albedo(GGX, μ, r) across the lanes: the table's bilinear lookup.
+inline F32x8 ggx_albedo(F32x8 mu, F32x8 r) {
+  auto grid = [](F32x8 x, I32x8* i, F32x8* f) {
+    const F32x8 g = vmin(vmax(x, F32x8{}), splat(1)) * Float(kAlbedoTableSize - 1);
+    I32x8 k = __builtin_convertvector(g, I32x8);
+    k = k > kAlbedoTableSize - 2 ? I32x8{} + (kAlbedoTableSize - 2) : k;
+    *i = k;
+    *f = g - __builtin_convertvector(k, F32x8);
+  };
+  I32x8 i, j;
+  F32x8 fu, fr;
+  grid(mu, &i, &fu);
+  grid(r, &j, &fr);
+  const float* tab = albedo_table(MicrofacetType::GGX);
+  const I32x8 row = j * kAlbedoTableSize + i;
+  const F32x8 a = (1 - fu) * gather(tab, row) + fu * gather(tab, row + 1);
+  const F32x8 b = (1 - fu) * gather(tab, row + kAlbedoTableSize) + fu * gather(tab, row + kAlbedoTableSize + 1);
+  return (1 - fr) * a + fr * b;
+}
+
+/// GGX D(ω_m) and Λ(ω) (MicrofacetDistribution::D, ::Lambda) across the lanes.
+inline F32x8 ggx_D(const V3& wm, F32x8 ax, F32x8 ay) {
+  const F32x8 c2 = wm.z * wm.z;
+  const F32x8 sx = wm.x / ax, sy = wm.y / ay;
+  const F32x8 e = (sx * sx + sy * sy) / c2;
+  const F32x8 e1 = 1 + e;
+  return c2 <= 0 ? F32x8{} : 1 / (kPi * ax * ay * c2 * c2 * (e1 * e1));
+}
+inline F32x8 ggx_Lambda(const V3& w, F32x8 ax, F32x8 ay) {
+  const F32x8 c2 = w.z * w.z;
+  const F32x8 sx = w.x * ax, sy = w.y * ay;
+  const F32x8 a2t2 = (sx * sx + sy * sy) / c2;
+  return c2 <= 0 ? splat(kInfinity) : (vsqrt(1 + a2t2) - 1) / 2;
+}
+
+/// fresnel_conductor across the lanes, for one wavelength.
+inline F32x8 fresnel_conductor(F32x8 cos_i, F32x8 eta, F32x8 k) {
+  cos_i = vmin(vmax(vabs(cos_i), F32x8{}), splat(1));
+  const F32x8 cos2 = cos_i * cos_i, sin2 = 1 - cos2;
+  const F32x8 eta2 = eta * eta, k2 = k * k;
+  const F32x8 t0 = eta2 - k2 - sin2;
+  const F32x8 s0 = t0 * t0 + 4 * eta2 * k2;
+  const F32x8 a2b2 = vsqrt(s0 > 0 ? s0 : F32x8{});
+  const F32x8 s1 = (a2b2 + t0) / 2;
+  const F32x8 a = vsqrt(s1 > 0 ? s1 : F32x8{});
+  const F32x8 t1 = a2b2 + cos2, t2 = 2 * a * cos_i;
+  const F32x8 rs = (t1 - t2) / (t1 + t2);
+  const F32x8 t3 = cos2 * a2b2 + sin2 * sin2, t4 = t2 * sin2;
+  const F32x8 rp = rs * (t3 - t4) / (t3 + t4);
+  const F32x8 r = (rs + rp) / 2;
+  const I32x8 finite = vabs(r) < kInfinity;  // NaN compares false
+  return finite ? vmin(vmax(r, F32x8{}), splat(1)) : splat(1);
+}
+
+/// BSDF::eval_pdf of the lanes' lone conductor lobes (the lanes in `m`) for local ω_o, ω_i:
+/// f (without the cosine; times w_b) and the density, both 0 off the lanes or where the
+/// lobe has no value. `geo`: the lanes whose directions are on one side of the surface by
+/// the geometric normal as by the shading one (shading_normal_correction).
+inline void conductor_eval_pdf(const ConductorVertices& C, V3 wo, V3 wi, I32x8 m, I32x8 geo,
+                               F32x8 f[kSpectrumSamples], F32x8* pdf) {
+  const F32x8 ax = load(C.alpha_x), ay = load(C.alpha_y);
+  const I32x8 wo_zero = wo.z == 0;
+  I32x8 ok = m & (wo.z * wi.z > 0);  // same_hemisphere
+  const I32x8 below = wo.z < 0;      // mirrored to ω_o's side
+  wo = select(below, -wo, wo), wi = select(below, -wi, wi);
+  ok &= (wo.z != 0) & (wi.z > 0);
+  const V3 h = wo + wi;
+  const F32x8 l2 = dot(h, h);
+  const I32x8 has_m = ok & (l2 > 0);
+  const V3 wm = h * rsqrt_newton(has_m ? l2 : splat(1));
+  const F32x8 D = ggx_D(wm, ax, ay), lambda_o = ggx_Lambda(wo, ax, ay);
+  const F32x8 g = D / ((1 + lambda_o + ggx_Lambda(wi, ax, ay)) * 4 * wo.z * wi.z);
+  const F32x8 p_ss = has_m ? D / ((1 + lambda_o) * 4 * wo.z) : F32x8{};
+  const F32x8 cos_om = vabs(dot(wo, wm));
+  const I32x8 comp = ok & load(C.compensated);
+  F32x8 ms{}, pms{};
+  if (any(comp)) {
+    const F32x8 r = load(C.r), e_o = ggx_albedo(wo.z, r), ea = load(C.E_avg);
+    const I32x8 below_one = comp & (ea < 1);
+    const F32x8 msv = (1 - e_o) * (1 - ggx_albedo(wi.z, r)) / (kPi * (1 - (below_one ? ea : F32x8{})));
+    ms = (below_one & (msv > 0)) ? msv : F32x8{};
+    pms = comp ? vmin(vmax(1 - e_o, F32x8{}), splat(1)) : F32x8{};
+  }
+  *pdf = ok ? (1 - pms) * p_ss + pms * (wi.z * kInvPi) : F32x8{};
+  const F32x8 w = load(C.w_b);
+  const I32x8 value = ok & ~wo_zero & geo;
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    const F32x8 fs = has_m ? fresnel_conductor(cos_om, load(C.eta.v[i]), load(C.k.v[i])) * g : F32x8{};
+    const F32x8 fi = fs + load(C.F_ms.v[i]) * ms;
+    f[i] = value ? fi * w : F32x8{};
+  }
+}
+
+/// GGXConductorLobe::sample of the lanes in `m` for local ω_o and the vertex's samples (uc
+/// picks the cosine-sampled multiple-scattering share, (ux, uy) the direction): the local
+/// ω_i and the lanes whose sample is valid (ω_i above ω_o's side, density > 0). The value
+/// and density follow from conductor_eval_pdf at ω_i, as the scalar lobe evaluates them.
+inline I32x8 conductor_sample(const ConductorVertices& C, const V3& wo, F32x8 uc, F32x8 ux, F32x8 uy, I32x8 m,
+                              V3* wi_out) {
+  const F32x8 ax = load(C.alpha_x), ay = load(C.alpha_y);
+  const F32x8 flip = wo.z < 0 ? splat(-1) : splat(1);
+  const V3 wo_up = wo * flip;
+  I32x8 ok = m & (wo_up.z != 0);
+  F32x8 pms{};
+  const I32x8 comp = ok & load(C.compensated);
+  if (any(comp)) pms = comp ? vmin(vmax(1 - ggx_albedo(wo_up.z, load(C.r)), F32x8{}), splat(1)) : F32x8{};
+  // BSDF::sample_lobes rescales uc within the one lobe's share (1): min(uc, 1 − ε).
+  const I32x8 cosine = vmin(uc, splat(kOneMinusEpsilon)) < pms;
+  const V3 wi_cos = sample_cosine_hemisphere(ux, uy);
+  // sample_visible_normal_ggx: ω_o stretched, a point on the spherical cap, unstretched.
+  V3 ws = normalize_newton(V3{ax * wo_up.x, ay * wo_up.y, wo_up.z});
+  ws = select(ws.z < 0, -ws, ws);
+  const F32x8 z = (1 - uy) * (1 + ws.z) - ws.z;
+  const F32x8 s2 = (1 - z) * (1 + z);
+  const F32x8 sin_t = vsqrt(s2 > 0 ? s2 : F32x8{});
+  F32x8 c, s;
+  cos_sin_turns(ux, &c, &s);
+  const V3 h{ws.x + sin_t * c, ws.y + sin_t * s, ws.z + z};
+  const V3 wm = normalize_newton(V3{ax * h.x, ay * h.y, vmax(splat(1e-6f), h.z)});
+  const V3 wi_vndf = -wo_up + wm * (2 * dot(wo_up, wm));
+  const V3 wi_up = select(cosine, wi_cos, wi_vndf);
+  *wi_out = wi_up * flip;
+  return ok & (wi_up.z > 0);
+}
