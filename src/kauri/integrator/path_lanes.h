@@ -29,14 +29,16 @@
 // It covers the scenes (path_lanes_supported) of shapes of the root group (triangle meshes,
 // spheres and disks), triangle area lights with their own emission and infinite lights
 // (constant and image environments, distant lights), with at least one surface of a
-// material of one Lambert lobe (its albedo constant, RGB or an image texture; its weight
-// constant): the vertices the lanes run across the vector. At a vertex of any other BSDF
-// (conductors, dielectrics, layered stacks) the lanes build, evaluate and sample it lane by
-// lane with trace_path's own functions (bsdf_vertex: direct_sample, continue_path) and
-// keep the path: its rays stay in the group's packets. A path that reaches a material whose
-// weights read vertex attributes (which the lanes do not interpolate) is handed over
-// there, to trace_path() from that hit with the lane's state, and its lane ends. Other
-// scenes take trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA
+// material of one Lambert lobe. The lanes run across the vector the vertices of materials
+// of one lobe with a constant weight: Lambert (its albedo constant, RGB or an image
+// texture) or a rough GGX conductor (path_lanes_conductor.inl). At a vertex of any other
+// BSDF (dielectrics, mirrors, layered stacks) a group with more than half its lanes live
+// builds, evaluates and samples it lane by lane with trace_path's own functions
+// (bsdf_vertex: direct_sample, continue_path) and keeps the path, whose rays stay in the
+// group's packets; a sparser group hands the path over there, to trace_path() from that
+// hit with the lane's state, and its lane ends, as every group does at a material whose
+// weights read vertex attributes (which the lanes do not interpolate). Other scenes take
+// trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA
 // build runs trace_path().
 #pragma once
 
