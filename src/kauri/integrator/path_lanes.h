@@ -122,6 +122,8 @@ enum LaneMaterial : uint8_t {
   kHandOver = 0,  // trace_path goes on from the hit: the material reads vertex attributes
   kLaneLambert,   // one Lambert lobe, its albedo constant, RGB or a texture: across the lanes
   kLaneConductor, // one rough GGX conductor lobe: across the lanes (path_lanes_conductor.inl)
+  kLaneDielectric,// one rough GGX dielectric lobe, without dispersion or the multiple-
+                  // scattering terms (ggx_dielectric@1): across the lanes, likewise
   kLaneBsdf,      // any other BSDF: built, sampled and evaluated lane by lane (bsdf_vertex)
 };
 struct LaneTriangles {
@@ -348,7 +350,8 @@ struct Paths : PathColumns {
 /// A bounce's vertices: what the per-lane part finds for the vector part.
 struct Vertices {
   alignas(32) int32_t scatter[W];   // -1: the lane samples light and its BSDF
-  alignas(32) int32_t conductor[W]; // -1: that BSDF is a GGX conductor (else Lambert)
+  alignas(32) int32_t conductor[W]; // -1: that BSDF is a GGX conductor
+  alignas(32) int32_t dielectric[W];// -1: a rough dielectric (neither: Lambert)
   alignas(32) int32_t nee[W];       // -1: next-event estimation has a light
   V3Lanes p, ng, ns, wo, dpdu;
   alignas(32) float uv[2][W];
@@ -474,6 +477,20 @@ __attribute__((noinline)) inline SampledSpectrum conductor_lane(const SceneView&
   if (!aov) return SampledSpectrum(0);
   return c.albedo_r(Frame::from_zx(V.ns.get(k), V.dpdu.get(k)).to_local(V.wo.get(k))) * w_b;
 }
+/// The same for a kLaneDielectric vertex: η (one for every wavelength) and α into Dv; the
+/// albedo (reflection and transmission, BSDF::albedo) where asked for.
+__attribute__((noinline)) inline SampledSpectrum dielectric_lane(const SceneView& s, const LobeParams& lobe, Float w_b,
+                                                                 const Vertices& V, int k,
+                                                                 const SampledWavelengths& lambda, bool aov,
+                                                                 DielectricVertices* Dv) {
+  const Float no_attrs[kMaxVertexAttributes] = {0, 0, 0, 0};
+  const ShadingInputs sp(no_attrs, Vec2{V.uv[0][k], V.uv[1][k]}, s.textures);
+  const RoughDielectricLobe d = material_detail::instantiate(lobe, sp, lambda).rough_dielectric;
+  Dv->set(k, d, w_b);
+  if (!aov) return SampledSpectrum(0);
+  const Vec3 wo = Frame::from_zx(V.ns.get(k), V.dpdu.get(k)).to_local(V.wo.get(k));
+  return (d.albedo_r(wo) + d.albedo_t(wo) * Float(1)) * w_b;
+}
 }  // namespace path_lanes_detail
 
 namespace path_lanes_detail {
@@ -546,7 +563,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   Paths P;
   Vertices V{};
   BsdfVertices G;
-  ConductorVertices C;  // read only in the lanes of V.conductor
+  ConductorVertices C;    // read only in the lanes of V.conductor
+  DielectricVertices Dv;  // and of V.dielectric
   alignas(32) float ray_o[3][W], ray_d[3][W], hit_t[W], hit_u[W], hit_v[W];
   alignas(32) int32_t hit_geom[W], hit_prim[W];
   for (int k = 0; k < W; ++k) {
@@ -707,7 +725,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     }
 
     // Per lane: emission, the light choice, the BSDF's albedo, the sampler's values.
-    store(I32x8{}, V.scatter), store(I32x8{}, V.conductor), store(I32x8{}, V.nee), store(I32x8{}, V.env);
+    store(I32x8{}, V.scatter), store(I32x8{}, V.conductor), store(I32x8{}, V.dielectric);
+    store(I32x8{}, V.nee), store(I32x8{}, V.env);
     store(I32x8{}, G.active), store(I32x8{}, G.nee);
     for (int bits = mask_bits(alive); bits;) {
       const int k = next_lane(&bits);
@@ -770,9 +789,12 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
                w_b;
       };
       const bool aov = cfg.albedo_aov && !out.albedo_set && (w_b > 0 || P.depth[k] + 1 >= cfg.max_depth);
-      const bool conductor = lm == kLaneConductor;
+      const bool conductor = lm == kLaneConductor, dielectric = lm == kLaneDielectric;
       SampledSpectrum a(0);
-      if (w_b > 0 && (aov || scatters)) a = conductor ? conductor_lane(s, lobe, w_b, V, k, lambda[k], aov, &C) : albedo();
+      if (w_b > 0 && (aov || scatters))
+        a = conductor    ? conductor_lane(s, lobe, w_b, V, k, lambda[k], aov, &C)
+            : dielectric ? dielectric_lane(s, lobe, w_b, V, k, lambda[k], aov, &Dv)
+                         : albedo();
       if (aov) {
         out.albedo = a;
         out.albedo_set = true;
@@ -782,8 +804,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         continue;
       }
       V.scatter[k] = -1;
-      if (conductor) {
-        V.conductor[k] = -1;
+      if (conductor || dielectric) {
+        (conductor ? V.conductor : V.dielectric)[k] = -1;
         V.u_lobe[k] = u[1].x;
       } else {
         V.albedo.set(k, a);
@@ -838,7 +860,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     auto same_side = [&](const V3& wi, const V3& wi_l) {
       return ~((wo_l.z * wi_l.z > 0) ^ (wo_ng * dot(wi, ng) > 0));
     };
-    const I32x8 conductor_lanes = load(V.conductor);
+    const I32x8 conductor_lanes = load(V.conductor), dielectric_lanes = load(V.dielectric);
 
     // Next-event estimation (sample_direct): a point on the chosen triangle, or the
     // direction an infinite light's sample took.
@@ -876,6 +898,13 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         conductor_eval_pdf(C, wo_l, wi_l, nee_conductor, same_side(wi, wi_l), f_c, &pdf_c);
         pdf_b = nee_conductor ? pdf_c : pdf_b;
         for (int i = 0; i < kSpectrumSamples; ++i) f_nee[i] = nee_conductor ? f_c[i] * cos_i : f_nee[i];
+      }
+      const I32x8 nee_dielectric = nee & dielectric_lanes;
+      if (any(nee_dielectric)) {
+        F32x8 f_d, pdf_d;
+        dielectric_eval_pdf(Dv, wo_l, wi_l, nee_dielectric, same_side(wi, wi_l), &f_d, &pdf_d);
+        pdf_b = nee_dielectric ? pdf_d : pdf_b;
+        for (int i = 0; i < kSpectrumSamples; ++i) f_nee[i] = nee_dielectric ? f_d * cos_i : f_nee[i];
       }
       const F32x8 p_light = load(V.light_pmf) * pdf_l;
       const F32x8 w_mis = (dir & load(V.light_delta)) ? splat(1) : power_heuristic(p_light, pdf_b);
@@ -949,6 +978,25 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       wi_l = select(sample_conductor, wc_l, wi_l), wi = select(sample_conductor, wc, wi);
       pdf = sample_conductor ? pdf_c : pdf;
     }
+    // A rough dielectric's (RoughDielectricLobe::sample), likewise; a refraction scales η.
+    const I32x8 sample_dielectric = scatter & dielectric_lanes;
+    I32x8 refracted{};
+    F32x8 eta_scale = load(P.eta_scale);
+    if (any(sample_dielectric)) {
+      V3 wd_l;
+      const I32x8 ok = dielectric_sample(Dv, wo_l, load(V.u_lobe), ux, uy, sample_dielectric, &wd_l, &refracted);
+      const V3 wd = fx * wd_l.x + fy * wd_l.y + fz * wd_l.z;
+      F32x8 f_d, pdf_d;
+      dielectric_eval_pdf(Dv, wo_l, wd_l, ok, same_side(wd, wd_l), &f_d, &pdf_d);
+      const I32x8 valid = ok & (pdf_d > 0);
+      for (int i = 0; i < kSpectrumSamples; ++i) f_sample[i] = sample_dielectric ? (valid ? f_d : F32x8{}) : f_sample[i];
+      wi_l = select(sample_dielectric, wd_l, wi_l), wi = select(sample_dielectric, wd, wi);
+      pdf = sample_dielectric ? pdf_d : pdf;
+      // s.eta = e (relative_eta) for a refraction; eta_scale *= e² once the path goes on.
+      const F32x8 eta = load(Dv.eta), e = wo_l.z > 0 ? eta : 1 / eta;
+      refracted &= valid;
+      eta_scale = refracted ? eta_scale * (e * e) : eta_scale;
+    }
     const F32x8 cos_over_pdf = vabs(dot(wi, fz)) / (pdf > 0 ? pdf : splat(1));
     F32x8 beta[kSpectrumSamples];
     I32x8 any_f{};
@@ -960,15 +1008,18 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       beta_max = i == 0 ? beta[i] : vmax(beta_max, beta[i]);
     }
     alive = scatter & any_f;
-    // record_scatter of a diffuse (Lambert) or glossy (conductor) reflection, then Russian
-    // roulette (trace_path).
+    // record_scatter of a diffuse (Lambert), glossy (a conductor's, a dielectric's
+    // reflection) or transmission event, then Russian roulette (trace_path).
     const I32x8 depth = load(P.depth) + (alive & 1);
-    const I32x8 diffuse = load(P.diffuse_depth) + (alive & ~sample_conductor & 1);
-    const I32x8 glossy = load(P.glossy_depth) + (alive & sample_conductor & 1);
+    const I32x8 glossy_event = sample_conductor | (sample_dielectric & ~refracted);
+    const I32x8 diffuse = load(P.diffuse_depth) + (alive & ~(sample_conductor | sample_dielectric) & 1);
+    const I32x8 glossy = load(P.glossy_depth) + (alive & glossy_event & 1);
+    const I32x8 transmission = load(P.transmission_depth) + (alive & refracted & 1);
     const I32x8 last = load(P.last_segment) | (alive & ~((diffuse <= cfg.max_diffuse) & (glossy <= cfg.max_glossy) &
-                                                        (load(P.transmission_depth) <= cfg.max_transmission)));
+                                                        (transmission <= cfg.max_transmission)));
     const I32x8 roulette = alive & ~last & (diffuse >= cfg.rr_min_depth);
-    const F32x8 q = rr_survival(beta_max * load(P.eta_scale));  // refraction's scale removed
+    eta_scale = alive ? eta_scale : load(P.eta_scale);
+    const F32x8 q = rr_survival(beta_max * eta_scale);  // refraction's scale removed
     alive &= ~(roulette & ~(load(V.u_rr) < q));
     const F32x8 inv_q = roulette ? 1 / (q > 0 ? q : splat(1)) : splat(1);
     I32x8 finite = ~I32x8{};
@@ -982,6 +1033,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     store(depth, P.depth);
     store(diffuse, P.diffuse_depth);
     store(glossy, P.glossy_depth);
+    store(transmission, P.transmission_depth);
+    store(eta_scale, P.eta_scale);
     store(last, P.last_segment);
     store(I32x8{}, P.specular);
     store(load(P.any_non_specular) | alive, P.any_non_specular);

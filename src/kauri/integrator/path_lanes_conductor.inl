@@ -1,4 +1,5 @@
-// GGX conductors across the path lanes (kLaneConductor vertices): GGXConductorLobe's
+// GGX conductors and rough dielectrics across the path lanes (kLaneConductor and
+// kLaneDielectric vertices). Conductors: GGXConductorLobe's
 // eval_pdf and sample (Torrance–Sparrow single scattering with the spectral Fresnel of a
 // complex IOR, Heitz 2014's height-correlated Smith G2, visible-normal sampling by
 // spherical caps (Dupuy & Benyoub 2023), and Kulla & Conty 2017's multiple-scattering
@@ -52,6 +53,20 @@ inline F32x8 ggx_albedo(F32x8 mu, F32x8 r) {
   const F32x8 a = (1 - fu) * gather(tab, row) + fu * gather(tab, row + 1);
   const F32x8 b = (1 - fu) * gather(tab, row + kAlbedoTableSize) + fu * gather(tab, row + kAlbedoTableSize + 1);
   return (1 - fr) * a + fr * b;
+}
+
+/// MicrofacetDistribution::sample_visible_normal_ggx across the lanes (ω up): ω stretched,
+/// a point on the spherical cap above it, unstretched.
+inline V3 sample_visible_normal_ggx(const V3& w, F32x8 ax, F32x8 ay, F32x8 ux, F32x8 uy) {
+  V3 ws = normalize_newton(V3{ax * w.x, ay * w.y, w.z});
+  ws = select(ws.z < 0, -ws, ws);
+  const F32x8 z = (1 - uy) * (1 + ws.z) - ws.z;
+  const F32x8 s2 = (1 - z) * (1 + z);
+  const F32x8 sin_t = vsqrt(s2 > 0 ? s2 : F32x8{});
+  F32x8 c, s;
+  cos_sin_turns(ux, &c, &s);
+  const V3 h{ws.x + sin_t * c, ws.y + sin_t * s, ws.z + z};
+  return normalize_newton(V3{ax * h.x, ay * h.y, vmax(splat(1e-6f), h.z)});
 }
 
 /// GGX D(ω_m) and Λ(ω) (MicrofacetDistribution::D, ::Lambda) across the lanes.
@@ -143,18 +158,96 @@ inline I32x8 conductor_sample(const ConductorVertices& C, const V3& wo, F32x8 uc
   // BSDF::sample_lobes rescales uc within the one lobe's share (1): min(uc, 1 − ε).
   const I32x8 cosine = vmin(uc, splat(kOneMinusEpsilon)) < pms;
   const V3 wi_cos = sample_cosine_hemisphere(ux, uy);
-  // sample_visible_normal_ggx: ω_o stretched, a point on the spherical cap, unstretched.
-  V3 ws = normalize_newton(V3{ax * wo_up.x, ay * wo_up.y, wo_up.z});
-  ws = select(ws.z < 0, -ws, ws);
-  const F32x8 z = (1 - uy) * (1 + ws.z) - ws.z;
-  const F32x8 s2 = (1 - z) * (1 + z);
-  const F32x8 sin_t = vsqrt(s2 > 0 ? s2 : F32x8{});
-  F32x8 c, s;
-  cos_sin_turns(ux, &c, &s);
-  const V3 h{ws.x + sin_t * c, ws.y + sin_t * s, ws.z + z};
-  const V3 wm = normalize_newton(V3{ax * h.x, ay * h.y, vmax(splat(1e-6f), h.z)});
+  const V3 wm = sample_visible_normal_ggx(wo_up, ax, ay, ux, uy);
   const V3 wi_vndf = -wo_up + wm * (2 * dot(wo_up, wm));
   const V3 wi_up = select(cosine, wi_cos, wi_vndf);
   *wi_out = wi_up * flip;
   return ok & (wi_up.z > 0);
+}
+
+/// The rough dielectric lanes' lobes of a bounce (RoughDielectricLobe without dispersion
+/// or the multiple-scattering terms): η inside / outside, α and the weight.
+struct DielectricVertices {
+  alignas(32) float eta[W], alpha_x[W], alpha_y[W], w_b[W];
+  void set(int lane, const RoughDielectricLobe& d, Float w) {
+    eta[lane] = d.eta[0], alpha_x[lane] = d.mf.alpha_x, alpha_y[lane] = d.mf.alpha_y, w_b[lane] = w;
+  }
+};
+
+/// fresnel_dielectric across the lanes (cos_i > 0 here: ω_o mirrored up, η relative).
+inline F32x8 fresnel_dielectric(F32x8 cos_i, F32x8 eta) {
+  cos_i = vmin(vmax(cos_i, splat(-1)), splat(1));
+  const I32x8 inside = cos_i < 0;
+  eta = inside ? 1 / eta : eta;
+  cos_i = inside ? -cos_i : cos_i;
+  const F32x8 sin2_t = (1 - cos_i * cos_i) / (eta * eta);
+  const I32x8 tir = sin2_t >= 1;
+  const F32x8 c2 = 1 - sin2_t;
+  const F32x8 cos_t = vsqrt(c2 > 0 ? c2 : F32x8{});
+  const F32x8 r_par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  const F32x8 r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  return tir ? splat(1) : (r_par * r_par + r_perp * r_perp) / 2;
+}
+
+/// BSDF::eval_pdf of the lanes' lone rough dielectric lobes (lanes `m`) for local ω_o,
+/// ω_i on either side (RoughDielectricLobe::ss_up, Walter et al. 2007 eqs. 20–21, radiance
+/// transport): f (without the cosine; times w_b; the same at every wavelength) and the
+/// density. `geo`: shading_normal_correction's agreement of the two normals.
+inline void dielectric_eval_pdf(const DielectricVertices& Dv, V3 wo, V3 wi, I32x8 m, I32x8 geo, F32x8* f,
+                                F32x8* pdf) {
+  const F32x8 ax = load(Dv.alpha_x), ay = load(Dv.alpha_y);
+  I32x8 ok = m & (wo.z != 0) & (wi.z != 0);
+  const I32x8 outside = wo.z > 0;
+  wo = select(outside, wo, -wo), wi = select(outside, wi, -wi);
+  const F32x8 eta = load(Dv.eta);
+  const F32x8 e = outside ? eta : 1 / eta;  // relative_eta
+  // half_vector: ω_o + ω_i (reflection) or ω_o + e ω_i (refraction), turned up.
+  const I32x8 refl = wi.z > 0;
+  V3 h = wo + wi * (refl ? splat(1) : e);
+  const F32x8 l2 = dot(h, h);
+  ok &= l2 > 0;
+  h = h * rsqrt_newton(ok ? l2 : splat(1));
+  h = select(h.z < 0, -h, h);
+  ok &= h.z != 0;
+  const F32x8 dot_o = dot(wo, h), dot_i = dot(wi, h);
+  ok &= (dot_o > 0) & (refl ? dot_i > 0 : dot_i < 0);
+  const F32x8 F = fresnel_dielectric(dot_o, e);
+  const F32x8 D = ggx_D(h, ax, ay), lambda_o = ggx_Lambda(wo, ax, ay);
+  const F32x8 DG = D / (1 + lambda_o + ggx_Lambda(wi, ax, ay));
+  const F32x8 D_vis = D * dot_o / ((1 + lambda_o) * wo.z);
+  const F32x8 sum = dot_o + e * dot_i, denom = sum * sum;
+  const F32x8 abs_i = vabs(dot_i);
+  const F32x8 p_r = D_vis / (4 * dot_o) * F, f_r = DG * F / (4 * wo.z * wi.z);
+  const F32x8 p_t = D_vis * (1 - F) * e * e * abs_i / denom;
+  const F32x8 f_t = DG * (1 - F) * dot_o * abs_i / (wo.z * vabs(wi.z) * denom);
+  *pdf = ok ? (refl ? p_r : p_t) : F32x8{};
+  *f = (ok & geo) ? (refl ? f_r : f_t) * load(Dv.w_b) : F32x8{};
+}
+
+/// RoughDielectricLobe::sample of the lanes in `m` for local ω_o: a visible normal, then
+/// reflection with probability F (uc) or refraction through it. The local ω_i and the
+/// lanes whose sample is valid; `refracted`: the lanes that crossed the surface.
+inline I32x8 dielectric_sample(const DielectricVertices& Dv, const V3& wo, F32x8 uc, F32x8 ux, F32x8 uy, I32x8 m,
+                               V3* wi_out, I32x8* refracted) {
+  const I32x8 outside = wo.z > 0;
+  const V3 wo_up = select(outside, wo, -wo);
+  const F32x8 eta = load(Dv.eta);
+  const F32x8 e = outside ? eta : 1 / eta;
+  // BSDF::sample_lobes rescales uc within the one lobe's share (1): min(uc, 1 − ε).
+  uc = vmin(uc, splat(kOneMinusEpsilon));
+  const V3 wm = sample_visible_normal_ggx(wo_up, load(Dv.alpha_x), load(Dv.alpha_y), ux, uy);
+  const F32x8 dot_o = dot(wo_up, wm);
+  I32x8 ok = m & (wo.z != 0) & (dot_o > 0);
+  const I32x8 reflect = uc < fresnel_dielectric(dot_o, e);
+  const V3 wr = -wo_up + wm * (2 * dot_o);
+  // refract(ω_o, ω_m, e): cos_i = ω_m·ω_o > 0 here.
+  const F32x8 sin2_t = vmax(F32x8{}, 1 - dot_o * dot_o) / (e * e);
+  const F32x8 c2 = 1 - sin2_t;
+  const F32x8 cos_t = vsqrt(c2 > 0 ? c2 : F32x8{});
+  const V3 wt = V3{-wo_up.x / e, -wo_up.y / e, -wo_up.z / e} + wm * (dot_o / e - cos_t);
+  ok &= reflect ? wr.z > 0 : (sin2_t < 1) & (wt.z < 0);
+  const V3 wi_up = select(reflect, wr, wt);
+  *wi_out = select(outside, wi_up, -wi_up);
+  *refracted = ok & ~reflect;
+  return ok;
 }
