@@ -293,17 +293,25 @@ TEST(PathLanes, WhichScenesRunInLanes) {
     s.add_mesh(0, quad("mirror", {-0.5f, 0.5f, -0.9f, 0.5f, 0.5f, -0.9f, 0.5f, 1, -0.9f, -0.5f, 1, -0.9f},
                        s.add_material(m)));
   }));
-  {  // no Lambert surface at all: nothing runs across the vector
+  auto only = [](auto&& set_lobe) {  // a scene of one quad, of one lobe
     Scene s;
-    MaterialDesc m = lambert("metal", {1, 1, 1});
-    m.lobes[0].type = LobeType::GGXConductor;
-    m.lobes[0].metal = "Ag";
-    s.add_mesh(0, quad("mirror", {-1, 0, 1, 1, 0, 1, 1, 0, -1, -1, 0, -1}, s.add_material(m)));
+    MaterialDesc m = lambert("only", {1, 1, 1});
+    set_lobe(m.lobes[0]);
+    s.add_mesh(0, quad("only", {-1, 0, 1, 1, 0, 1, 1, 0, -1, -1, 0, -1}, s.add_material(m)));
     CameraDesc cam;
     cam.eye = {0, 1, 3};
     s.set_camera(cam);
-    EXPECT_FALSE(path_lanes_supported(s.compile(8, 8)->view()));
-  }
+    return path_lanes_supported(s.compile(8, 8)->view());
+  };
+  EXPECT_TRUE(only([](LobeDesc& l) {  // rough silver: across the lanes
+    l.type = LobeType::GGXConductor;
+    l.metal = "Ag";
+  }));
+  EXPECT_FALSE(only([](LobeDesc& l) {  // a mirror: nothing runs across the vector
+    l.type = LobeType::GGXConductor;
+    l.metal = "Ag";
+    l.roughness = 0;
+  }));
   EXPECT_TRUE(supported([](Scene& s) {  // a constant environment
     LightDesc env;
     env.name = "sky";

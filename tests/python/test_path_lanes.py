@@ -2,9 +2,10 @@
 (integrator/path_lanes.h) where the scene allows it. The bench's Cornell box, hangar,
 textured room and environment-lit scene (Lambert meshes, image textures, analytic spheres,
 triangle lights, an environment map) run in lanes and give the one-path-at-a-time image up
-to float rounding, with the same rays; so does the glossy scene, whose paths go on one at a
-time from its conductor and glass spheres. A scene without a Lambert surface falls back,
-which the statistics say."""
+to float rounding, with the same rays; so does the glossy scene, whose gold and glass
+spheres run in the lanes too (rough GGX conductors and dielectrics), and the same scene with
+a rough silver floor for its only other surface. A scene of mirrors falls back, which the
+statistics say."""
 import os
 import sys
 
@@ -36,9 +37,25 @@ def test_lanes_give_the_scalar_image(module):
     np.testing.assert_allclose(b.depth, a.depth, rtol=1e-6)
 
 
-def test_scenes_without_lambert_surfaces_fall_back():
+def test_scenes_without_lambert_surfaces_run_in_lanes():
+    # A rough silver floor for the glossy scene's only diffuse surface: every surface a
+    # conductor or a rough dielectric, all of them run across the lanes.
     desc = glossy.describe()
     desc["shapes"] = [dict(sh, conductor={"metal": "Ag", "alpha": 0.1}) if "diffuse" in sh else sh
+                      for sh in desc["shapes"]]
+    a, b = _render(desc, False), _render(desc, True)
+    assert not a.stats["path_lanes"] and b.stats["path_lanes"]
+    assert abs(b.stats["rays"] / a.stats["rays"] - 1) < 2e-4
+    x, y = a.rgba.astype(np.float64), b.rgba.astype(np.float64)
+    assert np.abs(x - y).sum() / np.abs(x).sum() < 2e-4
+
+
+def test_scenes_without_lane_surfaces_fall_back():
+    desc = glossy.describe()
+    # Mirrors (α = 0: a specular bounce, which the lanes take lane by lane at most) everywhere.
+    desc["shapes"] = [dict({k: v for k, v in sh.items() if k not in ("diffuse", "dielectric")},
+                           conductor={"metal": "Ag", "alpha": 0.0})
+                      if ("diffuse" in sh or "conductor" in sh or "dielectric" in sh) else sh
                       for sh in desc["shapes"]]
     out = _render(desc, True, res=8, spp=2)
     assert not out.stats["path_lanes"]

@@ -33,10 +33,12 @@ bool path_lanes_supported(const SceneView& s) {
   if (s.n_instances != 1 || !s.instances[0].identity) return false;
   const GroupView& g = s.groups[s.instances[0].group];
   size_t triangles = 0;
-  bool any_lane_vertex = false;  // a scene whose every surface hands its paths over gains nothing
+  bool any_lane_vertex = false;  // a surface whose vertices run across the vector
   for (int i = 0; i < g.n_shapes; ++i) {
-    any_lane_vertex |= g.shapes[i].material >= 0 && lane_material(s, g.shapes[i].material) == kLaneLambert;
     if (g.shapes[i].type == ShapeType::Mesh) triangles += g.shapes[i].mesh.n_triangles;
+    if (g.shapes[i].material < 0) continue;
+    const LaneMaterial lm = lane_material(s, g.shapes[i].material);
+    any_lane_vertex |= lm == kLaneLambert || lm == kLaneConductor || lm == kLaneDielectric;
   }
   if (!any_lane_vertex || triangles > kPathLanesMaxTriangles) return false;
   for (int i = 0; i < s.n_lights; ++i) {

@@ -28,11 +28,12 @@
 //
 // It covers the scenes (path_lanes_supported) of shapes of the root group (triangle meshes,
 // spheres and disks), triangle area lights with their own emission and infinite lights
-// (constant and image environments, distant lights), with at least one surface of a
-// material of one Lambert lobe. The lanes run across the vector the vertices of materials
-// of one lobe with a constant weight: Lambert (its albedo constant, RGB or an image
-// texture) or a rough GGX conductor (path_lanes_conductor.inl). At a vertex of any other
-// BSDF (dielectrics, mirrors, layered stacks) a group with more than half its lanes live
+// (constant and image environments, distant lights), with at least one surface whose
+// vertices the lanes run across the vector: those of materials of one lobe with a constant
+// weight, Lambert (its albedo constant, RGB or an image texture), a rough GGX conductor or
+// a rough dielectric without dispersion or compensation (path_lanes_conductor.inl). At a
+// vertex of any other BSDF (dispersive or compensated dielectrics, mirrors, smooth glass,
+// layered stacks) a group with more than half its lanes live
 // builds, evaluates and samples it lane by lane with trace_path's own functions
 // (bsdf_vertex: direct_sample, continue_path) and keeps the path, whose rays stay in the
 // group's packets; a sparser group hands the path over there, to trace_path() from that
@@ -64,8 +65,8 @@ inline constexpr int kPathLanes = 8;
 /// scene: 58% of its render is Embree's), and take trace_path().
 inline constexpr size_t kPathLanesMaxTriangles = size_t(1) << 19;
 
-/// Whether trace_paths_lanes() runs `s` (see above: its shapes and lights, a Lambert
-/// surface, at most kPathLanesMaxTriangles) and the build has the vector types. Host code,
+/// Whether trace_paths_lanes() runs `s` (see above: its shapes and lights, a surface the
+/// lanes run across the vector, at most kPathLanesMaxTriangles) and the build has the vector types. Host code,
 /// once per render.
 bool path_lanes_supported(const SceneView& s);
 
