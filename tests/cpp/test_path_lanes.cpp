@@ -44,8 +44,8 @@ MeshDesc quad(const std::string& name, std::initializer_list<float> p, int mater
 /// Materials the lanes do not run across the vector: a rough gold sphere, a rough glass
 /// sphere with dispersion, a smooth glass quad and a layered (two-lobe) wall, whose BSDFs
 /// the lanes build and sample lane by lane (kLaneBsdf), the gold and a brushed copper patch
-/// (kLaneConductor, across the lanes), a frosted glass ball (kLaneDielectric, across the
-/// lanes), and a wall whose lobe weight reads a vertex attribute, where the path goes on
+/// (kLaneConductor, across the lanes), a frosted and a clouded (compensated) glass ball
+/// (kLaneDielectric, across the lanes), and a wall whose lobe weight reads a vertex attribute, where the path goes on
 /// one at a time from the hit (kHandOver).
 void add_other_materials(Scene& s) {
   MaterialDesc gold = lambert("gold", {1, 1, 1});
@@ -110,6 +110,17 @@ void add_other_materials(Scene& s) {
   c.radius = 0.22f;
   c.material = s.add_material(frosted);
   s.add_sphere(0, c);
+  // Clouded glass (ggx_dielectric@2: its multiple-scattering terms), without dispersion.
+  MaterialDesc clouded = lambert("clouded", {1, 1, 1});
+  clouded.lobes[0].type = LobeType::RoughDielectric;
+  clouded.lobes[0].roughness = 0.6f;
+  clouded.lobes[0].ior = 1.8f;
+  SphereDesc d = a;
+  d.name = "clouded_ball";
+  d.center = {-0.55f, 1.25f, -0.5f};
+  d.radius = 0.25f;
+  d.material = s.add_material(clouded);
+  s.add_sphere(0, d);
   MaterialDesc worn = lambert("worn", {0.3f, 0.6f, 0.9f});
   worn.lobes[0].weight.attribute = "wear";
   MeshDesc patch = quad("worn_patch", {0.99f, 0.3f, -0.5f, 0.99f, 0.3f, 0.5f, 0.99f, 1.2f, 0.5f, 0.99f, 1.2f, -0.5f},
@@ -257,10 +268,10 @@ TEST(PathLanes, WhereEachMaterialsVerticesRun) {
   add_other_materials(s);
   const LaneTrianglesStore t = build_lane_triangles(s.compile(8, 8)->view(), {});
   // white, red, green, dark (w_b = 0); gold, glass (dispersive, compensated), pane, sheen
-  // over Lambert, brushed copper, frosted glass; the worn wall.
-  const std::vector<uint8_t> expected = {kLaneLambert,   kLaneLambert, kLaneLambert, kLaneLambert,
-                                         kLaneConductor, kLaneBsdf,    kLaneBsdf,    kLaneBsdf,
-                                         kLaneConductor, kLaneDielectric, kHandOver};
+  // over Lambert, brushed copper, frosted and clouded glass; the worn wall.
+  const std::vector<uint8_t> expected = {kLaneLambert,   kLaneLambert,    kLaneLambert,    kLaneLambert,
+                                         kLaneConductor, kLaneBsdf,       kLaneBsdf,       kLaneBsdf,
+                                         kLaneConductor, kLaneDielectric, kLaneDielectric, kHandOver};
   EXPECT_EQ(t.lane_material, expected);
 }
 

@@ -7,8 +7,8 @@ namespace kauri {
 
 namespace {
 /// Where the lanes run the vertices of `material` (LaneMaterial): one Lambert lobe, one
-/// rough GGX conductor or one rough dielectric lobe without dispersion or compensation,
-/// with a constant weight, across the lanes; any other BSDF whose weights read no vertex attribute
+/// rough GGX conductor or one rough dielectric lobe without dispersion, with a constant
+/// weight, across the lanes; any other BSDF whose weights read no vertex attribute
 /// (the lanes do not interpolate them) lane by lane; the rest, and emissive materials (whose
 /// lights path_lanes_supported leaves out), handed over to trace_path.
 LaneMaterial lane_material(const SceneView& s, int material) {
@@ -23,7 +23,7 @@ LaneMaterial lane_material(const SceneView& s, int material) {
   // A rough GGX conductor (a mirror's specular bounce and Beckmann's sampler stay scalar).
   const bool rough = !MicrofacetDistribution{l.alpha_x, l.alpha_y, l.microfacet}.effectively_smooth();
   if (l.type == LobeType::GGXConductor && l.microfacet == MicrofacetType::GGX && rough) return kLaneConductor;
-  if (l.type == LobeType::RoughDielectric && rough && !l.compensate && !l.ior.dispersive()) return kLaneDielectric;
+  if (l.type == LobeType::RoughDielectric && rough && !l.ior.dispersive()) return kLaneDielectric;
   return kLaneBsdf;
 }
 }  // namespace

@@ -31,9 +31,8 @@
 // (constant and image environments, distant lights), with at least one surface whose
 // vertices the lanes run across the vector: those of materials of one lobe with a constant
 // weight, Lambert (its albedo constant, RGB or an image texture), a rough GGX conductor or
-// a rough dielectric without dispersion or compensation (path_lanes_conductor.inl). At a
-// vertex of any other BSDF (dispersive or compensated dielectrics, mirrors, smooth glass,
-// layered stacks) a group with more than half its lanes live
+// a rough dielectric without dispersion (path_lanes_conductor.inl). At a vertex of any
+// other BSDF (dispersive dielectrics, mirrors, smooth glass, layered stacks) a group with more than half its lanes live
 // builds, evaluates and samples it lane by lane with trace_path's own functions
 // (bsdf_vertex: direct_sample, continue_path) and keeps the path, whose rays stay in the
 // group's packets; a sparser group hands the path over there, to trace_path() from that
@@ -123,8 +122,7 @@ enum LaneMaterial : uint8_t {
   kHandOver = 0,  // trace_path goes on from the hit: the material reads vertex attributes
   kLaneLambert,   // one Lambert lobe, its albedo constant, RGB or a texture: across the lanes
   kLaneConductor, // one rough GGX conductor lobe: across the lanes (path_lanes_conductor.inl)
-  kLaneDielectric,// one rough GGX dielectric lobe, without dispersion or the multiple-
-                  // scattering terms (ggx_dielectric@1): across the lanes, likewise
+  kLaneDielectric,// one rough GGX dielectric lobe without dispersion: across the lanes, likewise
   kLaneBsdf,      // any other BSDF: built, sampled and evaluated lane by lane (bsdf_vertex)
 };
 struct LaneTriangles {

@@ -165,14 +165,82 @@ inline I32x8 conductor_sample(const ConductorVertices& C, const V3& wo, F32x8 uc
   return ok & (wi_up.z > 0);
 }
 
-/// The rough dielectric lanes' lobes of a bounce (RoughDielectricLobe without dispersion
-/// or the multiple-scattering terms): η inside / outside, α and the weight.
-struct DielectricVertices {
-  alignas(32) float eta[W], alpha_x[W], alpha_y[W], w_b[W];
-  void set(int lane, const RoughDielectricLobe& d, Float w) {
-    eta[lane] = d.eta[0], alpha_x[lane] = d.mf.alpha_x, alpha_y[lane] = d.mf.alpha_y, w_b[lane] = w;
+/// A dielectric albedo table's key (DielAlbedoKey) per lane, and as vectors.
+struct DielKeyLanes {
+  alignas(32) int32_t side[W], k[W], j[W];
+  alignas(32) float fk[W], fr[W];
+  void set(int lane, const DielAlbedoKey& key) {
+    side[lane] = key.side, k[lane] = key.k, j[lane] = key.j, fk[lane] = key.fk, fr[lane] = key.fr;
   }
 };
+struct DielKey {
+  I32x8 side, k, j;
+  F32x8 fk, fr;
+};
+/// Lane by lane the key `a` where `m`, else `b`.
+inline DielKey select_key(I32x8 m, const DielKeyLanes& a, const DielKeyLanes& b) {
+  return {m ? load(a.side) : load(b.side), m ? load(a.k) : load(b.k), m ? load(a.j) : load(b.j),
+          m ? load(a.fk) : load(b.fk), m ? load(a.fr) : load(b.fr)};
+}
+inline DielKey select_key(I32x8 m, const DielKey& a, const DielKey& b) {
+  return {m ? a.side : b.side, m ? a.k : b.k, m ? a.j : b.j, m ? a.fk : b.fk, m ? a.fr : b.fr};
+}
+/// diel_albedo across the lanes: the trilinear E(μ, r, e) of `tab` at each lane's key.
+inline F32x8 diel_albedo(const float* tab, const DielKey& key, F32x8 mu) {
+  const F32x8 g = vmin(vmax(mu, F32x8{}), splat(1)) * Float(kDielAlbedoMu - 1);
+  I32x8 i = __builtin_convertvector(g, I32x8);
+  i = i > kDielAlbedoMu - 2 ? I32x8{} + (kDielAlbedoMu - 2) : i;
+  const F32x8 fu = g - __builtin_convertvector(i, F32x8);
+  const I32x8 base = key.side * kDielAlbedoSide + i;
+  auto row = [&](I32x8 k, I32x8 j) {
+    const I32x8 p = base + (k * kDielAlbedoR + j) * kDielAlbedoMu;
+    return (1 - fu) * gather(tab, p) + fu * gather(tab, p + 1);
+  };
+  const F32x8 a = (1 - key.fr) * row(key.k, key.j) + key.fr * row(key.k, key.j + 1);
+  const F32x8 b = (1 - key.fr) * row(key.k + 1, key.j) + key.fr * row(key.k + 1, key.j + 1);
+  return (1 - key.fk) * a + key.fk * b;
+}
+
+/// The rough dielectric lanes' lobes of a bounce (RoughDielectricLobe without dispersion):
+/// η inside / outside, α, the weight, and where compensated (ggx_dielectric@2) its
+/// multiple-scattering terms (RoughDielectricLobe::ms_terms) for ω_o outside [0] and inside
+/// [1]: the table keys of ω_o's side and the far side, their E_avg, the transmitted share
+/// t_o and the relative IOR e.
+struct DielectricVertices {
+  alignas(32) float eta[W], alpha_x[W], alpha_y[W], w_b[W];
+  alignas(32) int32_t compensated[W];  // -1: the Kulla–Conty terms
+  DielKeyLanes key_o[2], key_i[2];
+  alignas(32) float ea_o[2][W], ea_i[2][W], t_o[2][W];
+  void set(int lane, const RoughDielectricLobe& d, Float w) {
+    eta[lane] = d.eta[0], alpha_x[lane] = d.mf.alpha_x, alpha_y[lane] = d.mf.alpha_y, w_b[lane] = w;
+    compensated[lane] = d.compensated() ? -1 : 0;
+    if (!d.compensated()) return;
+    for (int side = 0; side < 2; ++side) {
+      const RoughDielectricLobe::MS m = d.ms_terms(d.eta[0], side == 0);
+      key_o[side].set(lane, m.key_o), key_i[side].set(lane, m.key_i);
+      ea_o[side][lane] = m.ea_o, ea_i[side][lane] = m.ea_i, t_o[side][lane] = m.t_o;
+    }
+  }
+};
+
+/// The compensation's terms of the lanes `comp` for ω_o on the side `outside`, as vectors;
+/// the other lanes' keys are the table's first cell (their columns hold no key: gathers
+/// must not read beyond the tables).
+struct DielectricMS {
+  DielKey key_o, key_i;
+  F32x8 ea_o, ea_i, t_o;
+};
+inline DielectricMS dielectric_ms(const DielectricVertices& Dv, I32x8 outside, I32x8 comp) {
+  const DielKey none{};
+  return {select_key(comp, select_key(outside, Dv.key_o[0], Dv.key_o[1]), none),
+          select_key(comp, select_key(outside, Dv.key_i[0], Dv.key_i[1]), none),
+          outside ? load(Dv.ea_o[0]) : load(Dv.ea_o[1]), outside ? load(Dv.ea_i[0]) : load(Dv.ea_i[1]),
+          outside ? load(Dv.t_o[0]) : load(Dv.t_o[1])};
+}
+/// ms_sampling: the compensation strategy's probability 1 − E(μ_o) (clamped to 0.99).
+inline F32x8 dielectric_p_ms(const DielectricMS& m, F32x8 mu_o) {
+  return vmin(vmax(1 - diel_albedo(kGGXDielectricAlbedo, m.key_o, mu_o), F32x8{}), splat(0.99f));
+}
 
 /// fresnel_dielectric across the lanes (cos_i > 0 here: ω_o mirrored up, η relative).
 inline F32x8 fresnel_dielectric(F32x8 cos_i, F32x8 eta) {
@@ -191,7 +259,7 @@ inline F32x8 fresnel_dielectric(F32x8 cos_i, F32x8 eta) {
 
 /// BSDF::eval_pdf of the lanes' lone rough dielectric lobes (lanes `m`) for local ω_o,
 /// ω_i on either side (RoughDielectricLobe::ss_up, Walter et al. 2007 eqs. 20–21, radiance
-/// transport): f (without the cosine; times w_b; the same at every wavelength) and the
+/// transport, plus eval_ms_up / with_ms_pdf where compensated): f (without the cosine; times w_b; the same at every wavelength) and the
 /// density. `geo`: shading_normal_correction's agreement of the two normals.
 inline void dielectric_eval_pdf(const DielectricVertices& Dv, V3 wo, V3 wi, I32x8 m, I32x8 geo, F32x8* f,
                                 F32x8* pdf) {
@@ -205,12 +273,12 @@ inline void dielectric_eval_pdf(const DielectricVertices& Dv, V3 wo, V3 wi, I32x
   const I32x8 refl = wi.z > 0;
   V3 h = wo + wi * (refl ? splat(1) : e);
   const F32x8 l2 = dot(h, h);
-  ok &= l2 > 0;
-  h = h * rsqrt_newton(ok ? l2 : splat(1));
+  I32x8 has_m = ok & (l2 > 0);  // half_vector: the single-scattering term's ω_m exists
+  h = h * rsqrt_newton(has_m ? l2 : splat(1));
   h = select(h.z < 0, -h, h);
-  ok &= h.z != 0;
+  has_m &= h.z != 0;
   const F32x8 dot_o = dot(wo, h), dot_i = dot(wi, h);
-  ok &= (dot_o > 0) & (refl ? dot_i > 0 : dot_i < 0);
+  has_m &= (dot_o > 0) & (refl ? dot_i > 0 : dot_i < 0);
   const F32x8 F = fresnel_dielectric(dot_o, e);
   const F32x8 D = ggx_D(h, ax, ay), lambda_o = ggx_Lambda(wo, ax, ay);
   const F32x8 DG = D / (1 + lambda_o + ggx_Lambda(wi, ax, ay));
@@ -220,12 +288,30 @@ inline void dielectric_eval_pdf(const DielectricVertices& Dv, V3 wo, V3 wi, I32x
   const F32x8 p_r = D_vis / (4 * dot_o) * F, f_r = DG * F / (4 * wo.z * wi.z);
   const F32x8 p_t = D_vis * (1 - F) * e * e * abs_i / denom;
   const F32x8 f_t = DG * (1 - F) * dot_o * abs_i / (wo.z * vabs(wi.z) * denom);
-  *pdf = ok ? (refl ? p_r : p_t) : F32x8{};
-  *f = (ok & geo) ? (refl ? f_r : f_t) * load(Dv.w_b) : F32x8{};
+  F32x8 p = ok & has_m ? (refl ? p_r : p_t) : F32x8{};
+  F32x8 v = ok & has_m ? (refl ? f_r : f_t) : F32x8{};
+  const I32x8 comp = ok & load(Dv.compensated);
+  if (any(comp)) {  // eval_ms_up and with_ms_pdf
+    const DielectricMS ms = dielectric_ms(Dv, outside, comp);
+    const F32x8 lo = vmax(1 - diel_albedo(kGGXDielectricAlbedo, ms.key_o, wo.z), F32x8{});
+    const F32x8 li = vmax(1 - diel_albedo(kGGXDielectricAlbedo, select_key(refl, ms.key_o, ms.key_i), vabs(wi.z)), F32x8{});
+    const F32x8 ea = refl ? ms.ea_o : ms.ea_i;
+    const I32x8 below_one = ea < 1;
+    const F32x8 one_minus = 1 - (below_one ? ea : F32x8{});
+    const F32x8 f_ms_r = (1 - ms.t_o) * lo * li / (kPi * one_minus);
+    const F32x8 f_ms_t = ms.t_o * lo * li / (kPi * one_minus) / (e * e);
+    const F32x8 f_ms = below_one ? (refl ? f_ms_r : f_ms_t) : F32x8{};
+    v = comp ? v + f_ms : v;
+    const F32x8 pms = dielectric_p_ms(ms, wo.z);
+    p = comp ? (1 - pms) * p + pms * (refl ? 1 - ms.t_o : ms.t_o) * vabs(wi.z) * kInvPi : p;
+  }
+  *pdf = p;
+  *f = (ok & geo) ? v * load(Dv.w_b) : F32x8{};
 }
 
-/// RoughDielectricLobe::sample of the lanes in `m` for local ω_o: a visible normal, then
-/// reflection with probability F (uc) or refraction through it. The local ω_i and the
+/// RoughDielectricLobe::sample of the lanes in `m` for local ω_o: the compensation's cosine
+/// strategy with probability P_ms, else a visible normal, then reflection with probability
+/// F (uc rescaled) or refraction through it. The local ω_i and the
 /// lanes whose sample is valid; `refracted`: the lanes that crossed the surface.
 inline I32x8 dielectric_sample(const DielectricVertices& Dv, const V3& wo, F32x8 uc, F32x8 ux, F32x8 uy, I32x8 m,
                                V3* wi_out, I32x8* refracted) {
@@ -235,9 +321,22 @@ inline I32x8 dielectric_sample(const DielectricVertices& Dv, const V3& wo, F32x8
   const F32x8 e = outside ? eta : 1 / eta;
   // BSDF::sample_lobes rescales uc within the one lobe's share (1): min(uc, 1 − ε).
   uc = vmin(uc, splat(kOneMinusEpsilon));
+  // The compensation's cosine strategy (ms_sampling): with probability P_ms, on the
+  // transmission side with probability t_o of those.
+  const I32x8 comp = m & load(Dv.compensated);
+  F32x8 pms{}, t{};
+  if (any(comp)) {
+    const DielectricMS ms = dielectric_ms(Dv, outside, comp);
+    pms = comp ? dielectric_p_ms(ms, wo_up.z) : F32x8{};
+    t = comp ? ms.t_o : F32x8{};
+  }
+  const I32x8 cosine = uc < pms;
+  V3 wc = sample_cosine_hemisphere(ux, uy);
+  wc.z = uc < pms * t ? -wc.z : wc.z;
+  uc = (uc - pms) / (1 - pms);
   const V3 wm = sample_visible_normal_ggx(wo_up, load(Dv.alpha_x), load(Dv.alpha_y), ux, uy);
   const F32x8 dot_o = dot(wo_up, wm);
-  I32x8 ok = m & (wo.z != 0) & (dot_o > 0);
+  I32x8 ok = m & (wo.z != 0) & (cosine ? wc.z != 0 : dot_o > 0);
   const I32x8 reflect = uc < fresnel_dielectric(dot_o, e);
   const V3 wr = -wo_up + wm * (2 * dot_o);
   // refract(ω_o, ω_m, e): cos_i = ω_m·ω_o > 0 here.
@@ -245,9 +344,9 @@ inline I32x8 dielectric_sample(const DielectricVertices& Dv, const V3& wo, F32x8
   const F32x8 c2 = 1 - sin2_t;
   const F32x8 cos_t = vsqrt(c2 > 0 ? c2 : F32x8{});
   const V3 wt = V3{-wo_up.x / e, -wo_up.y / e, -wo_up.z / e} + wm * (dot_o / e - cos_t);
-  ok &= reflect ? wr.z > 0 : (sin2_t < 1) & (wt.z < 0);
-  const V3 wi_up = select(reflect, wr, wt);
+  ok &= cosine | (reflect ? wr.z > 0 : (sin2_t < 1) & (wt.z < 0));
+  const V3 wi_up = select(cosine, wc, select(reflect, wr, wt));
   *wi_out = select(outside, wi_up, -wi_up);
-  *refracted = ok & ~reflect;
+  *refracted = ok & (wi_up.z < 0);  // reflect_it = ω_i up
   return ok;
 }
