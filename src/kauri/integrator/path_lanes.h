@@ -461,34 +461,23 @@ inline void put(void* dst, const T& v) {
 namespace path_lanes_detail {
 #include "kauri/integrator/path_lanes_conductor.inl"
 
-/// The per-lane part of lane k's kLaneConductor vertex: the lobe build_single_lobe makes
-/// (η, κ and F_ms at the lane's wavelengths) into C, and its albedo times w_b where the
-/// albedo output asks for it (`aov`). Out of line: the Lambert vertices keep their registers.
-__attribute__((noinline)) inline SampledSpectrum conductor_lane(const SceneView& s, const LobeParams& lobe, Float w_b,
-                                                                const Vertices& V, int k,
-                                                                const SampledWavelengths& lambda, bool aov,
-                                                                ConductorVertices* C) {
+/// The per-lane part of lane k's kLaneConductor or kLaneDielectric vertex: the lobe as
+/// build_single_lobe makes it (η, κ and F_ms, or η and the compensation's terms, at the
+/// lane's wavelengths) into the columns `out` (ConductorVertices, DielectricVertices), and
+/// its albedo times w_b (BSDF::albedo) where the albedo output asks for it (`aov`). Out of
+/// line: the Lambert vertices keep their registers.
+template <class Columns>
+__attribute__((noinline)) SampledSpectrum lobe_lane(const SceneView& s, const LobeParams& lobe, Float w_b,
+                                                    const Vertices& V, int k, const SampledWavelengths& lambda,
+                                                    bool aov, Columns* out) {
   const Float no_attrs[kMaxVertexAttributes] = {0, 0, 0, 0};
   const ShadingInputs sp(no_attrs, Vec2{V.uv[0][k], V.uv[1][k]}, s.textures);
-  GGXConductorLobe c = material_detail::instantiate(lobe, sp, lambda).conductor;
-  c.cache_multiple_scattering();
-  C->set(k, c, w_b);
-  if (!aov) return SampledSpectrum(0);
-  return c.albedo_r(Frame::from_zx(V.ns.get(k), V.dpdu.get(k)).to_local(V.wo.get(k))) * w_b;
-}
-/// The same for a kLaneDielectric vertex: η (one for every wavelength) and α into Dv; the
-/// albedo (reflection and transmission, BSDF::albedo) where asked for.
-__attribute__((noinline)) inline SampledSpectrum dielectric_lane(const SceneView& s, const LobeParams& lobe, Float w_b,
-                                                                 const Vertices& V, int k,
-                                                                 const SampledWavelengths& lambda, bool aov,
-                                                                 DielectricVertices* Dv) {
-  const Float no_attrs[kMaxVertexAttributes] = {0, 0, 0, 0};
-  const ShadingInputs sp(no_attrs, Vec2{V.uv[0][k], V.uv[1][k]}, s.textures);
-  const RoughDielectricLobe d = material_detail::instantiate(lobe, sp, lambda).rough_dielectric;
-  Dv->set(k, d, w_b);
+  Lobe l = material_detail::instantiate(lobe, sp, lambda);
+  if (l.type == LobeType::GGXConductor) l.conductor.cache_multiple_scattering();
+  out->set(k, l, w_b);
   if (!aov) return SampledSpectrum(0);
   const Vec3 wo = Frame::from_zx(V.ns.get(k), V.dpdu.get(k)).to_local(V.wo.get(k));
-  return (d.albedo_r(wo) + d.albedo_t(wo) * Float(1)) * w_b;
+  return (l.albedo_r(wo) + l.albedo_t(wo) * Float(1)) * w_b;
 }
 }  // namespace path_lanes_detail
 
@@ -791,8 +780,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       const bool conductor = lm == kLaneConductor, dielectric = lm == kLaneDielectric;
       SampledSpectrum a(0);
       if (w_b > 0 && (aov || scatters))
-        a = conductor    ? conductor_lane(s, lobe, w_b, V, k, lambda[k], aov, &C)
-            : dielectric ? dielectric_lane(s, lobe, w_b, V, k, lambda[k], aov, &Dv)
+        a = conductor    ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &C)
+            : dielectric ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &Dv)
                          : albedo();
       if (aov) {
         out.albedo = a;

@@ -14,7 +14,8 @@ struct ConductorVertices {
   SpectrumLanes eta, k, F_ms;
   alignas(32) float alpha_x[W], alpha_y[W], r[W], E_avg[W], w_b[W];
   alignas(32) int32_t compensated[W];  // -1: the Kulla–Conty term
-  void set(int lane, const GGXConductorLobe& c, Float w) {
+  void set(int lane, const Lobe& l, Float w) {
+    const GGXConductorLobe& c = l.conductor;
     eta.set(lane, c.eta), k.set(lane, c.k);
     alpha_x[lane] = c.mf.alpha_x, alpha_y[lane] = c.mf.alpha_y;
     r[lane] = c.table_roughness();
@@ -211,7 +212,8 @@ struct DielectricVertices {
   alignas(32) int32_t compensated[W];  // -1: the Kulla–Conty terms
   DielKeyLanes key_o[2], key_i[2];
   alignas(32) float ea_o[2][W], ea_i[2][W], t_o[2][W];
-  void set(int lane, const RoughDielectricLobe& d, Float w) {
+  void set(int lane, const Lobe& l, Float w) {
+    const RoughDielectricLobe& d = l.rough_dielectric;
     eta[lane] = d.eta[0], alpha_x[lane] = d.mf.alpha_x, alpha_y[lane] = d.mf.alpha_y, w_b[lane] = w;
     compensated[lane] = d.compensated() ? -1 : 0;
     if (!d.compensated()) return;
