@@ -41,11 +41,11 @@ MeshDesc quad(const std::string& name, std::initializer_list<float> p, int mater
 
 /// A Cornell-like box open towards the camera. `normals_and_uvs`: the back wall gets
 /// bent per-vertex normals and a rotated uv layout; `two_sided`: the light emits both ways.
-/// Materials the lanes do not run across the vector: a rough gold sphere, a rough glass
-/// sphere with dispersion, a smooth glass quad and a layered (two-lobe) wall, whose BSDFs
-/// the lanes build and sample lane by lane (kLaneBsdf), the gold and a brushed copper patch
-/// (kLaneConductor, across the lanes), a frosted and a clouded (compensated) glass ball
-/// (kLaneDielectric, across the lanes), and a wall whose lobe weight reads a vertex attribute, where the path goes on
+/// Materials other than Lambert: a rough glass sphere with dispersion and a layered
+/// (two-lobe) wall, whose BSDFs the lanes build and sample lane by lane (kLaneBsdf), a rough
+/// gold sphere and a brushed copper patch (kLaneConductor, across the lanes), a frosted and
+/// a clouded (compensated) glass ball (kLaneDielectric), a smooth glass pane and a mirror
+/// (kLaneSpecular), and a wall whose lobe weight reads a vertex attribute, where the path goes on
 /// one at a time from the hit (kHandOver).
 void add_other_materials(Scene& s) {
   MaterialDesc gold = lambert("gold", {1, 1, 1});
@@ -121,6 +121,13 @@ void add_other_materials(Scene& s) {
   d.radius = 0.25f;
   d.material = s.add_material(clouded);
   s.add_sphere(0, d);
+  // A silver mirror on the back wall (α = 0: a specular bounce).
+  MaterialDesc mirror = lambert("mirror", {1, 1, 1});
+  mirror.lobes[0].type = LobeType::GGXConductor;
+  mirror.lobes[0].metal = "Ag";
+  mirror.lobes[0].roughness = 0;
+  s.add_mesh(0, quad("mirror", {0.1f, 0.6f, -0.98f, 0.8f, 0.6f, -0.98f, 0.8f, 1.5f, -0.98f, 0.1f, 1.5f, -0.98f},
+                     s.add_material(mirror)));
   MaterialDesc worn = lambert("worn", {0.3f, 0.6f, 0.9f});
   worn.lobes[0].weight.attribute = "wear";
   MeshDesc patch = quad("worn_patch", {0.99f, 0.3f, -0.5f, 0.99f, 0.3f, 0.5f, 0.99f, 1.2f, 0.5f, 0.99f, 1.2f, -0.5f},
@@ -268,10 +275,11 @@ TEST(PathLanes, WhereEachMaterialsVerticesRun) {
   add_other_materials(s);
   const LaneTrianglesStore t = build_lane_triangles(s.compile(8, 8)->view(), {});
   // white, red, green, dark (w_b = 0); gold, glass (dispersive, compensated), pane, sheen
-  // over Lambert, brushed copper, frosted and clouded glass; the worn wall.
+  // over Lambert, brushed copper, frosted and clouded glass, a mirror; the worn wall.
   const std::vector<uint8_t> expected = {kLaneLambert,   kLaneLambert,    kLaneLambert,    kLaneLambert,
-                                         kLaneConductor, kLaneBsdf,       kLaneBsdf,       kLaneBsdf,
-                                         kLaneConductor, kLaneDielectric, kLaneDielectric, kHandOver};
+                                         kLaneConductor, kLaneBsdf,       kLaneSpecular,   kLaneBsdf,
+                                         kLaneConductor, kLaneDielectric, kLaneDielectric, kLaneSpecular,
+                                         kHandOver};
   EXPECT_EQ(t.lane_material, expected);
 }
 

@@ -24,6 +24,8 @@ LaneMaterial lane_material(const SceneView& s, int material) {
   const bool rough = !MicrofacetDistribution{l.alpha_x, l.alpha_y, l.microfacet}.effectively_smooth();
   if (l.type == LobeType::GGXConductor && l.microfacet == MicrofacetType::GGX && rough) return kLaneConductor;
   if (l.type == LobeType::RoughDielectric && rough && !l.ior.dispersive()) return kLaneDielectric;
+  if ((l.type == LobeType::GGXConductor && !rough) || (l.type == LobeType::SmoothDielectric && !l.ior.dispersive()))
+    return kLaneSpecular;
   return kLaneBsdf;
 }
 }  // namespace

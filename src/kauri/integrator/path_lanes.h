@@ -123,6 +123,7 @@ enum LaneMaterial : uint8_t {
   kLaneLambert,   // one Lambert lobe, its albedo constant, RGB or a texture: across the lanes
   kLaneConductor, // one rough GGX conductor lobe: across the lanes (path_lanes_conductor.inl)
   kLaneDielectric,// one rough GGX dielectric lobe without dispersion: across the lanes, likewise
+  kLaneSpecular,  // a mirror or smooth glass without dispersion: across the lanes, likewise
   kLaneBsdf,      // any other BSDF: built, sampled and evaluated lane by lane (bsdf_vertex)
 };
 struct LaneTriangles {
@@ -350,7 +351,8 @@ struct Paths : PathColumns {
 struct Vertices {
   alignas(32) int32_t scatter[W];   // -1: the lane samples light and its BSDF
   alignas(32) int32_t conductor[W]; // -1: that BSDF is a GGX conductor
-  alignas(32) int32_t dielectric[W];// -1: a rough dielectric (neither: Lambert)
+  alignas(32) int32_t dielectric[W];// -1: a rough dielectric
+  alignas(32) int32_t specular[W];  // -1: a mirror or smooth glass (none of these: Lambert)
   alignas(32) int32_t nee[W];       // -1: next-event estimation has a light
   V3Lanes p, ng, ns, wo, dpdu;
   alignas(32) float uv[2][W];
@@ -553,6 +555,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   BsdfVertices G;
   ConductorVertices C;    // read only in the lanes of V.conductor
   DielectricVertices Dv;  // and of V.dielectric
+  SpecularVertices S;     // and of V.specular
   alignas(32) float ray_o[3][W], ray_d[3][W], hit_t[W], hit_u[W], hit_v[W];
   alignas(32) int32_t hit_geom[W], hit_prim[W];
   for (int k = 0; k < W; ++k) {
@@ -713,7 +716,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     }
 
     // Per lane: emission, the light choice, the BSDF's albedo, the sampler's values.
-    store(I32x8{}, V.scatter), store(I32x8{}, V.conductor), store(I32x8{}, V.dielectric);
+    store(I32x8{}, V.scatter), store(I32x8{}, V.conductor), store(I32x8{}, V.dielectric), store(I32x8{}, V.specular);
     store(I32x8{}, V.nee), store(I32x8{}, V.env);
     store(I32x8{}, G.active), store(I32x8{}, G.nee);
     for (int bits = mask_bits(alive); bits;) {
@@ -776,12 +779,15 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
                                    : s.textures[lobe.a_texture].albedo(Vec2{V.uv[0][k], V.uv[1][k]}, lambda[k])) *
                w_b;
       };
-      const bool aov = cfg.albedo_aov && !out.albedo_set && (w_b > 0 || P.depth[k] + 1 >= cfg.max_depth);
-      const bool conductor = lm == kLaneConductor, dielectric = lm == kLaneDielectric;
+      const bool conductor = lm == kLaneConductor, dielectric = lm == kLaneDielectric, specular = lm == kLaneSpecular;
+      // The albedo output takes the first vertex with a non-specular lobe (or the last).
+      const bool aov = cfg.albedo_aov && !out.albedo_set &&
+                       ((w_b > 0 && !specular) || P.depth[k] + 1 >= cfg.max_depth);
       SampledSpectrum a(0);
       if (w_b > 0 && (aov || scatters))
         a = conductor    ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &C)
             : dielectric ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &Dv)
+            : specular   ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &S)
                          : albedo();
       if (aov) {
         out.albedo = a;
@@ -792,11 +798,15 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         continue;
       }
       V.scatter[k] = -1;
-      if (conductor || dielectric) {
-        (conductor ? V.conductor : V.dielectric)[k] = -1;
+      if (conductor || dielectric || specular) {
+        (conductor ? V.conductor : dielectric ? V.dielectric : V.specular)[k] = -1;
         V.u_lobe[k] = u[1].x;
       } else {
         V.albedo.set(k, a);
+      }
+      if (specular) {  // a delta lobe: no next-event estimate (trace_path's has_non_specular)
+        V.u_rr[k] = u[1].y;
+        continue;
       }
       if (lc.light >= 0 && lc.pmf > 0) {
         const Light& l = s.lights[lc.light];
@@ -849,6 +859,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       return ~((wo_l.z * wi_l.z > 0) ^ (wo_ng * dot(wi, ng) > 0));
     };
     const I32x8 conductor_lanes = load(V.conductor), dielectric_lanes = load(V.dielectric);
+    const I32x8 specular_lanes = load(V.specular);
 
     // Next-event estimation (sample_direct): a point on the chosen triangle, or the
     // direction an infinite light's sample took.
@@ -985,6 +996,22 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       refracted &= valid;
       eta_scale = refracted ? eta_scale * (e * e) : eta_scale;
     }
+    // A mirror's or smooth glass's (the specular lanes'), likewise.
+    const I32x8 sample_specular = scatter & specular_lanes;
+    if (any(sample_specular)) {
+      V3 ws_l;
+      F32x8 f_s[kSpectrumSamples], pdf_s, eta_s;
+      I32x8 refr;
+      const I32x8 ok = specular_sample(S, wo_l, load(V.u_lobe), sample_specular, &ws_l, f_s, &pdf_s, &refr, &eta_s);
+      const V3 ws = fx * ws_l.x + fy * ws_l.y + fz * ws_l.z;
+      const I32x8 valid = ok & same_side(ws, ws_l);
+      for (int i = 0; i < kSpectrumSamples; ++i) f_sample[i] = sample_specular ? (valid ? f_s[i] : F32x8{}) : f_sample[i];
+      wi_l = select(sample_specular, ws_l, wi_l), wi = select(sample_specular, ws, wi);
+      pdf = sample_specular ? pdf_s : pdf;
+      refr &= valid;
+      refracted |= refr;
+      eta_scale = refr ? eta_scale * (eta_s * eta_s) : eta_scale;
+    }
     const F32x8 cos_over_pdf = vabs(dot(wi, fz)) / (pdf > 0 ? pdf : splat(1));
     F32x8 beta[kSpectrumSamples];
     I32x8 any_f{};
@@ -999,8 +1026,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     // record_scatter of a diffuse (Lambert), glossy (a conductor's, a dielectric's
     // reflection) or transmission event, then Russian roulette (trace_path).
     const I32x8 depth = load(P.depth) + (alive & 1);
-    const I32x8 glossy_event = sample_conductor | (sample_dielectric & ~refracted);
-    const I32x8 diffuse = load(P.diffuse_depth) + (alive & ~(sample_conductor | sample_dielectric) & 1);
+    const I32x8 glossy_event = (sample_conductor | sample_dielectric | sample_specular) & ~refracted;
+    const I32x8 diffuse = load(P.diffuse_depth) + (alive & ~(sample_conductor | sample_dielectric | sample_specular) & 1);
     const I32x8 glossy = load(P.glossy_depth) + (alive & glossy_event & 1);
     const I32x8 transmission = load(P.transmission_depth) + (alive & refracted & 1);
     const I32x8 last = load(P.last_segment) | (alive & ~((diffuse <= cfg.max_diffuse) & (glossy <= cfg.max_glossy) &
@@ -1024,8 +1051,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     store(transmission, P.transmission_depth);
     store(eta_scale, P.eta_scale);
     store(last, P.last_segment);
-    store(I32x8{}, P.specular);
-    store(load(P.any_non_specular) | alive, P.any_non_specular);
+    store(alive & sample_specular, P.specular);
+    store(load(P.any_non_specular) | (alive & ~sample_specular), P.any_non_specular);
     store(alive ? pdf : load(P.prev_pdf), P.prev_pdf);
     P.prev_p.store(p);
     P.prev_n.store(ns);

@@ -352,3 +352,56 @@ inline I32x8 dielectric_sample(const DielectricVertices& Dv, const V3& wo, F32x8
   *refracted = ok & (wi_up.z < 0);  // reflect_it = ω_i up
   return ok;
 }
+
+/// The specular lanes' lobes of a bounce (kLaneSpecular): a smooth conductor (a mirror:
+/// GGXConductorLobe below α 1e-3) or a smooth dielectric without dispersion
+/// (SmoothDielectricLobe), their spectral η (and κ) and the weight.
+struct SpecularVertices {
+  SpectrumLanes eta, k;
+  alignas(32) float w_b[W];
+  alignas(32) int32_t dielectric[W];  // -1: a smooth dielectric; 0: a mirror
+  void set(int lane, const Lobe& l, Float w) {
+    const bool glass = l.type == LobeType::SmoothDielectric;
+    eta.set(lane, glass ? l.dielectric.eta : l.conductor.eta);
+    k.set(lane, glass ? SampledSpectrum(0) : l.conductor.k);
+    dielectric[lane] = glass ? -1 : 0;
+    w_b[lane] = w;
+  }
+};
+
+/// The specular lanes' samples (SmoothDielectricLobe::sample, GGXConductorLobe::sample of a
+/// mirror, then BSDF::sample_lobes' weight and shading-normal correction) for local ω_o:
+/// ω_i, f (without the cosine) per wavelength and the discrete probability; the lanes
+/// whose sample is valid, and those that refracted (with the relative η crossed).
+inline I32x8 specular_sample(const SpecularVertices& S, const V3& wo, F32x8 uc, I32x8 m, V3* wi,
+                             F32x8 f[kSpectrumSamples], F32x8* pdf, I32x8* refracted, F32x8* eta_crossed) {
+  uc = vmin(uc, splat(kOneMinusEpsilon));  // BSDF::sample_lobes' rescale within its one lobe
+  const I32x8 glass = m & load(S.dielectric);
+  const F32x8 e = load(S.eta.v[0]);
+  const F32x8 F = fresnel_dielectric(wo.z, e);
+  // refract(ω_o, +z, e): from the inside the normal and η turn round.
+  const I32x8 inside = wo.z < 0;
+  const F32x8 eta = inside ? 1 / e : e, cos_i = inside ? -wo.z : wo.z, n = inside ? splat(-1) : splat(1);
+  const F32x8 sin2_t = vmax(F32x8{}, 1 - cos_i * cos_i) / (eta * eta);
+  const F32x8 c2 = 1 - sin2_t;
+  const F32x8 cos_t = vsqrt(c2 > 0 ? c2 : F32x8{});
+  const F32x8 t = (cos_i / eta - cos_t) * n;
+  const V3 wt{-wo.x / eta, -wo.y / eta, -wo.z / eta + t};
+  const I32x8 refract = glass & ~(uc < F) & (sin2_t < 1);
+  const V3 wr{-wo.x, -wo.y, wo.z};
+  *wi = select(refract, wt, wr);
+  const F32x8 cos_wi = vabs(wi->z);
+  *pdf = glass ? (refract ? 1 - F : ((uc < F) ? F : splat(1))) : splat(1);
+  const F32x8 w = load(S.w_b);
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    const F32x8 ei = load(S.eta.v[i]);
+    const F32x8 Fi = fresnel_dielectric(wo.z, ei);
+    const F32x8 erel = wo.z > 0 ? ei : 1 / ei;
+    const F32x8 v_glass = refract ? (1 - Fi) / (erel * erel) / cos_wi : Fi / cos_wi;
+    const F32x8 v_mirror = fresnel_conductor(vabs(wo.z), ei, load(S.k.v[i])) / cos_wi;
+    f[i] = (glass ? v_glass : v_mirror) * w;
+  }
+  *refracted = refract;
+  *eta_crossed = eta;
+  return m & (wo.z != 0) & (*pdf > 0) & (wi->z != 0);
+}
