@@ -30,9 +30,10 @@
 // spheres and disks), triangle area lights with their own emission and infinite lights
 // (constant and image environments, distant lights), with at least one surface whose
 // vertices the lanes run across the vector: those of materials of one lobe with a constant
-// weight, Lambert (its albedo constant, RGB or an image texture), a rough GGX conductor or
-// a rough dielectric without dispersion (path_lanes_conductor.inl). At a vertex of any
-// other BSDF (dispersive dielectrics, mirrors, smooth glass, layered stacks) a group with more than half its lanes live
+// weight, Lambert (its albedo constant, RGB or an image texture), a rough GGX conductor, a
+// rough dielectric without dispersion, a mirror or smooth glass without dispersion
+// (path_lanes_conductor.inl). At a vertex of any other BSDF (dispersive glass, Beckmann
+// conductors, Oren–Nayar, sheen, layered stacks) a group with more than half its lanes live
 // builds, evaluates and samples it lane by lane with trace_path's own functions
 // (bsdf_vertex: direct_sample, continue_path) and keeps the path, whose rays stay in the
 // group's packets; a sparser group hands the path over there, to trace_path() from that
