@@ -559,17 +559,16 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   SpecularVertices S;     // and of V.specular
   alignas(32) float ray_o[3][W], ray_d[3][W], hit_t[W], hit_u[W], hit_v[W];
   alignas(32) int32_t hit_geom[W], hit_prim[W];
+  // A camera path's PathState, in every lane (whole columns at once).
+  store(I32x8{0, 1, 2, 3, 4, 5, 6, 7} < n, P.alive);
+  for (int32_t* c : {P.depth, P.diffuse_depth, P.glossy_depth, P.transmission_depth, P.last_segment, P.specular,
+                     P.any_non_specular})
+    store(I32x8{}, c);
+  store(F32x8{}, P.prev_pdf), store(splat(1), P.eta_scale);
+  P.prev_p.store(V3{}), P.prev_n.store(V3{});
+  for (int i = 0; i < kSpectrumSamples; ++i)
+    store(splat(1), P.beta.v[i]), store(F32x8{}, P.L.v[i]), store(F32x8{}, P.L_direct.v[i]);
   for (int k = 0; k < W; ++k) {
-    P.alive[k] = k < n ? -1 : 0;
-    P.depth[k] = P.diffuse_depth[k] = P.glossy_depth[k] = P.transmission_depth[k] = 0;
-    P.last_segment[k] = P.specular[k] = P.any_non_specular[k] = 0;
-    P.prev_pdf[k] = 0;
-    P.eta_scale[k] = 1;
-    P.prev_p.set(k, Vec3{0, 0, 0});
-    P.prev_n.set(k, Vec3{0, 0, 0});
-    P.beta.set(k, SampledSpectrum(1));
-    P.L.set(k, SampledSpectrum(0));
-    P.L_direct.set(k, SampledSpectrum(0));
     const Ray& r = rays[k < n ? k : 0];
     for (int a = 0; a < 3; ++a) ray_o[a][k] = r.o[a], ray_d[a][k] = r.d[a];
     const bool hit = k < n && primary_found[k];
