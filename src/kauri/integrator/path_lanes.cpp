@@ -6,11 +6,12 @@
 namespace kauri {
 
 namespace {
-/// Where the lanes run the vertices of `material` (LaneMaterial): one Lambert lobe, one
-/// rough GGX conductor or one rough dielectric lobe without dispersion, with a constant
-/// weight, across the lanes; any other BSDF whose weights read no vertex attribute
-/// (the lanes do not interpolate them) lane by lane; the rest, and emissive materials (whose
-/// lights path_lanes_supported leaves out), handed over to trace_path.
+/// Where the lanes run the vertices of `material` (LaneMaterial): one lobe with a constant
+/// weight across the lanes, Lambert, a rough GGX conductor, a rough dielectric without
+/// dispersion, a mirror or smooth glass without dispersion; any other BSDF whose weights
+/// read no vertex attribute (the lanes do not interpolate them) lane by lane; the rest, and
+/// emissive materials (whose lights path_lanes_supported leaves out), handed over to
+/// trace_path.
 LaneMaterial lane_material(const SceneView& s, int material) {
   const MaterialView& m = s.materials[material];
   if (m.emissive) return kHandOver;
@@ -20,7 +21,7 @@ LaneMaterial lane_material(const SceneView& s, int material) {
   if (!material_detail::single_lobe(m, params)) return kLaneBsdf;
   const LobeParams& l = params[0];
   if (l.type == LobeType::Lambert) return kLaneLambert;
-  // A rough GGX conductor (a mirror's specular bounce and Beckmann's sampler stay scalar).
+  // GGX microfacets (Beckmann's sampler stays lane by lane); below α 1e-3 a mirror.
   const bool rough = !MicrofacetDistribution{l.alpha_x, l.alpha_y, l.microfacet}.effectively_smooth();
   if (l.type == LobeType::GGXConductor && l.microfacet == MicrofacetType::GGX && rough) return kLaneConductor;
   if (l.type == LobeType::RoughDielectric && rough && !l.ior.dispersive()) return kLaneDielectric;

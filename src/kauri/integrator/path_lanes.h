@@ -46,6 +46,7 @@
 #include <embree3/rtcore.h>
 
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 #include "kauri/accel/embree_accel.h"
@@ -464,11 +465,11 @@ inline void put(void* dst, const T& v) {
 namespace path_lanes_detail {
 #include "kauri/integrator/path_lanes_conductor.inl"
 
-/// The per-lane part of lane k's kLaneConductor or kLaneDielectric vertex: the lobe as
-/// build_single_lobe makes it (η, κ and F_ms, or η and the compensation's terms, at the
-/// lane's wavelengths) into the columns `out` (ConductorVertices, DielectricVertices), and
-/// its albedo times w_b (BSDF::albedo) where the albedo output asks for it (`aov`). Out of
-/// line: the Lambert vertices keep their registers.
+/// The per-lane part of lane k's kLaneConductor, kLaneDielectric or kLaneSpecular vertex:
+/// the lobe as build_single_lobe makes it (η, κ and F_ms, or η and the compensation's
+/// terms, at the lane's wavelengths) into the columns `out` (ConductorVertices,
+/// DielectricVertices, SpecularVertices), and its albedo times w_b (BSDF::albedo) where the
+/// albedo output asks for it (`aov`). Out of line: the Lambert vertices keep their registers.
 template <class Columns>
 __attribute__((noinline)) SampledSpectrum lobe_lane(const SceneView& s, const LobeParams& lobe, Float w_b,
                                                     const Vertices& V, int k, const SampledWavelengths& lambda,
@@ -476,7 +477,8 @@ __attribute__((noinline)) SampledSpectrum lobe_lane(const SceneView& s, const Lo
   const Float no_attrs[kMaxVertexAttributes] = {0, 0, 0, 0};
   const ShadingInputs sp(no_attrs, Vec2{V.uv[0][k], V.uv[1][k]}, s.textures);
   Lobe l = material_detail::instantiate(lobe, sp, lambda);
-  if (l.type == LobeType::GGXConductor) l.conductor.cache_multiple_scattering();
+  // A rough conductor's F_ms (a mirror's is never read: the specular lanes skip its quadrature).
+  if (l.type == LobeType::GGXConductor && !std::is_same_v<Columns, SpecularVertices>) l.conductor.cache_multiple_scattering();
   out->set(k, l, w_b);
   if (!aov) return SampledSpectrum(0);
   const Vec3 wo = Frame::from_zx(V.ns.get(k), V.dpdu.get(k)).to_local(V.wo.get(k));

@@ -111,8 +111,7 @@ inline F32x8 fresnel_conductor(F32x8 cos_i, F32x8 eta, F32x8 k) {
 inline void conductor_eval_pdf(const ConductorVertices& C, V3 wo, V3 wi, I32x8 m, I32x8 geo,
                                F32x8 f[kSpectrumSamples], F32x8* pdf) {
   const F32x8 ax = load(C.alpha_x), ay = load(C.alpha_y);
-  const I32x8 wo_zero = wo.z == 0;
-  I32x8 ok = m & (wo.z * wi.z > 0);  // same_hemisphere
+  I32x8 ok = m & (wo.z * wi.z > 0);  // same_hemisphere (so ω_o.z ≠ 0, as BSDF::eval_pdf_lobes needs)
   const I32x8 below = wo.z < 0;      // mirrored to ω_o's side
   wo = select(below, -wo, wo), wi = select(below, -wi, wi);
   ok &= (wo.z != 0) & (wi.z > 0);
@@ -135,7 +134,7 @@ inline void conductor_eval_pdf(const ConductorVertices& C, V3 wo, V3 wi, I32x8 m
   }
   *pdf = ok ? (1 - pms) * p_ss + pms * (wi.z * kInvPi) : F32x8{};
   const F32x8 w = load(C.w_b);
-  const I32x8 value = ok & ~wo_zero & geo;
+  const I32x8 value = ok & geo;
   for (int i = 0; i < kSpectrumSamples; ++i) {
     const F32x8 fs = has_m ? fresnel_conductor(cos_om, load(C.eta.v[i]), load(C.k.v[i])) * g : F32x8{};
     const F32x8 fi = fs + load(C.F_ms.v[i]) * ms;
@@ -149,7 +148,9 @@ inline void conductor_eval_pdf(const ConductorVertices& C, V3 wo, V3 wi, I32x8 m
 /// and density follow from conductor_eval_pdf at ω_i, as the scalar lobe evaluates them.
 inline I32x8 conductor_sample(const ConductorVertices& C, const V3& wo, F32x8 uc, F32x8 ux, F32x8 uy, I32x8 m,
                               V3* wi_out) {
-  const F32x8 ax = load(C.alpha_x), ay = load(C.alpha_y);
+  // α of the other lanes is 1: their columns hold no lobe (nothing reads their results, but
+  // the normalisations below branch on their values).
+  const F32x8 ax = m ? load(C.alpha_x) : splat(1), ay = m ? load(C.alpha_y) : splat(1);
   const F32x8 flip = wo.z < 0 ? splat(-1) : splat(1);
   const V3 wo_up = wo * flip;
   I32x8 ok = m & (wo_up.z != 0);
@@ -244,7 +245,7 @@ inline F32x8 dielectric_p_ms(const DielectricMS& m, F32x8 mu_o) {
   return vmin(vmax(1 - diel_albedo(kGGXDielectricAlbedo, m.key_o, mu_o), F32x8{}), splat(0.99f));
 }
 
-/// fresnel_dielectric across the lanes (cos_i > 0 here: ω_o mirrored up, η relative).
+/// fresnel_dielectric across the lanes (cos_i < 0: from the inside, η inverted).
 inline F32x8 fresnel_dielectric(F32x8 cos_i, F32x8 eta) {
   cos_i = vmin(vmax(cos_i, splat(-1)), splat(1));
   const I32x8 inside = cos_i < 0;
@@ -336,7 +337,7 @@ inline I32x8 dielectric_sample(const DielectricVertices& Dv, const V3& wo, F32x8
   V3 wc = sample_cosine_hemisphere(ux, uy);
   wc.z = uc < pms * t ? -wc.z : wc.z;
   uc = (uc - pms) / (1 - pms);
-  const V3 wm = sample_visible_normal_ggx(wo_up, load(Dv.alpha_x), load(Dv.alpha_y), ux, uy);
+  const V3 wm = sample_visible_normal_ggx(wo_up, m ? load(Dv.alpha_x) : splat(1), m ? load(Dv.alpha_y) : splat(1), ux, uy);
   const F32x8 dot_o = dot(wo_up, wm);
   I32x8 ok = m & (wo.z != 0) & (cosine ? wc.z != 0 : dot_o > 0);
   const I32x8 reflect = uc < fresnel_dielectric(dot_o, e);
