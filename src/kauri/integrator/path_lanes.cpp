@@ -66,6 +66,7 @@ LaneTriangles LaneTrianglesStore::view() const {
   t.normals = normals.empty() ? nullptr : normals.data();
   t.env = env.data();
   t.lane_material = lane_material.data();
+  t.dielectric_ms = dielectric_ms.empty() ? nullptr : dielectric_ms.data();
   t.any_quads = any_quads;
   return t;
 }
@@ -99,6 +100,17 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
   t.lane_material.assign(size_t(materials), kHandOver);
   for (int i = 0; i < g.n_shapes; ++i)
     if (g.shapes[i].material >= 0) t.lane_material[size_t(g.shapes[i].material)] = lane_material(s, g.shapes[i].material);
+  // The compensated rough dielectrics' multiple-scattering terms, for both sides: functions
+  // of α and η alone, and η of a kLaneDielectric lobe is the same at every wavelength.
+  for (int mi = 0; mi < materials; ++mi) {
+    if (t.lane_material[size_t(mi)] != kLaneDielectric) continue;
+    const int li = s.materials[mi].first_lobe;
+    const LobeParams& p = s.lobes[li];
+    const RoughDielectricLobe d = RoughDielectricLobe::make(SampledSpectrum(p.ior(550)), p.alpha_x, p.alpha_y, p.compensate);
+    if (!d.compensated()) continue;
+    if (t.dielectric_ms.size() < 2 * size_t(li + 1)) t.dielectric_ms.resize(2 * size_t(li + 1));
+    for (int side = 0; side < 2; ++side) t.dielectric_ms[2 * size_t(li) + size_t(side)] = d.ms_terms(d.eta[0], side == 0);
+  }
   t.lights.assign(std::max(s.n_lights, 1), LaneLightRow{});
   for (int i = 0; i < s.n_lights; ++i) {
     const Light& l = s.lights[i];

@@ -136,6 +136,10 @@ struct LaneTriangles {
   const LaneNormalRow* normals = nullptr;     // null: no mesh has shading normals
   const LaneEnvTables* env = nullptr;         // per scene light (empty but for environment images)
   const uint8_t* lane_material = nullptr;     // per material: its LaneMaterial
+  // Per lobe, [2 × lobe + side] (side 0: ω_o outside): a compensated kLaneDielectric lobe's
+  // multiple-scattering terms (RoughDielectricLobe::ms_terms), the same for every path
+  // (its η does not depend on the wavelength), computed once per render.
+  const RoughDielectricLobe::MS* dielectric_ms = nullptr;
   bool any_quads = false;
 };
 /// Host storage of a LaneTriangles (build_lane_triangles).
@@ -147,6 +151,7 @@ struct LaneTrianglesStore {
   std::vector<LaneNormalRow> normals;
   std::vector<LaneEnvTables> env;  // per scene light
   std::vector<uint8_t> lane_material;
+  std::vector<RoughDielectricLobe::MS> dielectric_ms;
   bool any_quads = false;
   LaneTriangles view() const;
 };
@@ -479,7 +484,7 @@ __attribute__((noinline)) SampledSpectrum lobe_lane(const SceneView& s, const Lo
   Lobe l = material_detail::instantiate(lobe, sp, lambda);
   // A rough conductor's F_ms (a mirror's is never read: the specular lanes skip its quadrature).
   if (l.type == LobeType::GGXConductor && !std::is_same_v<Columns, SpecularVertices>) l.conductor.cache_multiple_scattering();
-  out->set(k, l, w_b);
+  out->set(k, l, w_b, int(&lobe - s.lobes));
   if (!aov) return SampledSpectrum(0);
   const Vec3 wo = Frame::from_zx(V.ns.get(k), V.dpdu.get(k)).to_local(V.wo.get(k));
   return (l.albedo_r(wo) + l.albedo_t(wo) * Float(1)) * w_b;
@@ -558,6 +563,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   BsdfVertices G;
   ConductorVertices C;    // read only in the lanes of V.conductor
   DielectricVertices Dv;  // and of V.dielectric
+  Dv.terms = tris.dielectric_ms;
   SpecularVertices S;     // and of V.specular
   alignas(32) float ray_o[3][W], ray_d[3][W], hit_t[W], hit_u[W], hit_v[W];
   alignas(32) int32_t hit_geom[W], hit_prim[W];

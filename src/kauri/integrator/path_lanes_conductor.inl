@@ -14,7 +14,7 @@ struct ConductorVertices {
   SpectrumLanes eta, k, F_ms;
   alignas(32) float alpha_x[W], alpha_y[W], r[W], E_avg[W], w_b[W];
   alignas(32) int32_t compensated[W];  // -1: the Kulla–Conty term
-  void set(int lane, const Lobe& l, Float w) {
+  void set(int lane, const Lobe& l, Float w, int /*lobe*/) {
     const GGXConductorLobe& c = l.conductor;
     eta.set(lane, c.eta), k.set(lane, c.k);
     alpha_x[lane] = c.mf.alpha_x, alpha_y[lane] = c.mf.alpha_y;
@@ -213,13 +213,14 @@ struct DielectricVertices {
   alignas(32) int32_t compensated[W];  // -1: the Kulla–Conty terms
   DielKeyLanes key_o[2], key_i[2];
   alignas(32) float ea_o[2][W], ea_i[2][W], t_o[2][W];
-  void set(int lane, const Lobe& l, Float w) {
+  const RoughDielectricLobe::MS* terms = nullptr;  // LaneTriangles::dielectric_ms
+  void set(int lane, const Lobe& l, Float w, int lobe) {
     const RoughDielectricLobe& d = l.rough_dielectric;
     eta[lane] = d.eta[0], alpha_x[lane] = d.mf.alpha_x, alpha_y[lane] = d.mf.alpha_y, w_b[lane] = w;
     compensated[lane] = d.compensated() ? -1 : 0;
     if (!d.compensated()) return;
     for (int side = 0; side < 2; ++side) {
-      const RoughDielectricLobe::MS m = d.ms_terms(d.eta[0], side == 0);
+      const RoughDielectricLobe::MS& m = terms[2 * lobe + side];
       key_o[side].set(lane, m.key_o), key_i[side].set(lane, m.key_i);
       ea_o[side][lane] = m.ea_o, ea_i[side][lane] = m.ea_i, t_o[side][lane] = m.t_o;
     }
@@ -361,7 +362,7 @@ struct SpecularVertices {
   SpectrumLanes eta, k;
   alignas(32) float w_b[W];
   alignas(32) int32_t dielectric[W];  // -1: a smooth dielectric; 0: a mirror
-  void set(int lane, const Lobe& l, Float w) {
+  void set(int lane, const Lobe& l, Float w, int /*lobe*/) {
     const bool glass = l.type == LobeType::SmoothDielectric;
     eta.set(lane, glass ? l.dielectric.eta : l.conductor.eta);
     k.set(lane, glass ? SampledSpectrum(0) : l.conductor.k);
