@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
   const double pmf = best_ns_per_call(iterations, [&] {
     double sum = 0;
     for (int i = 0; i < iterations; ++i)
-      sum += view.pmf(i % int(c.lights.size()), points[size_t(i)], normals[size_t(i)]);
+      sum += double(view.pmf(i % int(c.lights.size()), points[size_t(i)], normals[size_t(i)]));
     return sum;
   });
   const double power = best_ns_per_call(iterations, [&] {
