@@ -487,7 +487,7 @@ __attribute__((noinline)) SampledSpectrum lobe_lane(const SceneView& s, const Lo
   out->set(k, l, w_b, int(&lobe - s.lobes));
   if (!aov) return SampledSpectrum(0);
   const Vec3 wo = Frame::from_zx(V.ns.get(k), V.dpdu.get(k)).to_local(V.wo.get(k));
-  return (l.albedo_r(wo) + l.albedo_t(wo) * Float(1)) * w_b;
+  return (l.albedo_r(wo) + l.albedo_t(wo)) * w_b;  // BSDF::albedo of the lone lobe (transmission weight 1)
 }
 }  // namespace path_lanes_detail
 
