@@ -374,7 +374,8 @@ def versions():
     try:
         import kauri
         b = kauri.build_info
-        v["kauri"] = f"{kauri.__version__} ({b['compiler']}, -march={b['march']}, pgo={b['pgo']})"
+        v["kauri"] = (f"{kauri.__version__} ({b['compiler']}, -march={b['march']}, pgo={b['pgo']}, "
+                      f"path lanes={b['path_lanes']})")
         v["kauri_march"] = b["march"]
     except Exception as e:  # noqa: BLE001 - reported, not fatal here
         v["kauri"] = f"import failed: {e}"

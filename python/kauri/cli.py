@@ -131,7 +131,8 @@ def main(argv=None) -> int:
     if args.version:
         from . import __version__, build_info
         print(f"kauri {__version__} ({build_info['compiler']}, -march={build_info['march']}, "
-              f"profile-guided: {build_info['pgo']}; cores: {', '.join(build_info['cores'])})")
+              f"profile-guided: {build_info['pgo']}; path lanes: {build_info['path_lanes']}; "
+              f"cores: {', '.join(build_info['cores'])})")
         return 0
     if args.command == "render":
         if args.spp <= 0:

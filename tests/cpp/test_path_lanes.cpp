@@ -205,10 +205,10 @@ void add_box(Scene& s, bool normals_and_uvs, bool two_sided, bool sphere = false
 }
 
 RenderResult render_box(const CompiledScene& c, bool lanes, int max_diffuse, int rr_depth, int max_glossy,
-                        int max_transmission) {
+                        int max_transmission, int spp) {
   RenderSettings cfg;
   cfg.width = cfg.height = 24;
-  cfg.spp = 16;
+  cfg.spp = spp;
   cfg.seed = 7;
   cfg.threads = 1;
   cfg.progress = false;
@@ -221,14 +221,15 @@ RenderResult render_box(const CompiledScene& c, bool lanes, int max_diffuse, int
 }
 
 void expect_same_images(bool normals_and_uvs, bool two_sided, int max_diffuse, int rr_depth, bool sphere = false,
-                        bool sky = false, bool others = false, int max_glossy = 8, int max_transmission = 12) {
+                        bool sky = false, bool others = false, int max_glossy = 8, int max_transmission = 12,
+                        int spp = 16) {
   Scene s;
   add_box(s, normals_and_uvs, two_sided, sphere, sky);
   if (others) add_other_materials(s);
   auto c = s.compile(24, 24);
   ASSERT_TRUE(path_lanes_supported(c->view()));
-  const RenderResult a = render_box(*c, false, max_diffuse, rr_depth, max_glossy, max_transmission);
-  const RenderResult b = render_box(*c, true, max_diffuse, rr_depth, max_glossy, max_transmission);
+  const RenderResult a = render_box(*c, false, max_diffuse, rr_depth, max_glossy, max_transmission, spp);
+  const RenderResult b = render_box(*c, true, max_diffuse, rr_depth, max_glossy, max_transmission, spp);
   EXPECT_FALSE(a.stats.path_lanes);
   EXPECT_TRUE(b.stats.path_lanes);
   // A path whose last-bit difference flips a comparison (a roulette test, a hemisphere
@@ -254,6 +255,11 @@ void expect_same_images(bool normals_and_uvs, bool two_sided, int max_diffuse, i
 }
 
 TEST(PathLanes, SameImageAsOnePathAtATime) { expect_same_images(false, false, 6, 4); }
+// 11 samples a pixel: a group of 8 and one of 3 camera rays, traced as 11 of 16 lanes with
+// AVX-512 (kPathLanes) or as 8 and 3 of 8.
+TEST(PathLanes, PixelsOfFewerSamplesThanLanes) {
+  expect_same_images(false, false, 6, 4, true, true, true, 8, 12, 11);
+}
 TEST(PathLanes, ShadingNormalsUvFramesAndTwoSidedLight) { expect_same_images(true, true, 6, 4); }
 TEST(PathLanes, RouletteFromTheFirstBounce) { expect_same_images(false, false, 6, 0); }
 TEST(PathLanes, DiffuseBudgetOfOneAndNoRoulette) { expect_same_images(true, false, 1, 9); }
@@ -385,8 +391,8 @@ TEST(PathLanes, EnvironmentImageAcrossTheLanesMatchesTheScalarFunctions) {
       }
     }
     V3 wi;
-    F32x8 pdf, Le[kSpectrumSamples];
-    sample_env(l, t, load(ux), load(uy), ~I32x8{}, spectra, &wi, &pdf, Le);
+    LF pdf, Le[kSpectrumSamples];
+    sample_env(l, t, load(ux), load(uy), ~LI{}, spectra, &wi, &pdf, Le);
     for (int k = 0; k < W; ++k) {
       const LightSample ls = sample_light(l, Point3{0, 1, 0}, Vec2{ux[k], uy[k]}, lambda[k], kNextEventDensity, nullptr);
       EXPECT_TRUE(near(pdf[k], ls.pdf)) << "round " << round << " lane " << k << ": " << pdf[k] << " vs " << ls.pdf;
@@ -411,7 +417,7 @@ TEST(PathLanes, EnvironmentImageAcrossTheLanesMatchesTheScalarFunctions) {
       P.beta.set(k, SampledSpectrum(1));
       P.L.set(k, SampledSpectrum(0)), P.L_direct.set(k, SampledSpectrum(0));
     }
-    add_env_escaped(v, l, li, t, dir.load(), spectra, ~I32x8{}, P);
+    add_env_escaped(v, l, li, t, dir.load(), spectra, ~LI{}, P);
     for (int k = 0; k < W; ++k) {
       Float pdf = 0;
       const SampledSpectrum Le = infinite_light_Le_pdf(l, dir.get(k), lambda[k], kNextEventDensity, &pdf);

@@ -46,8 +46,8 @@ struct LaneDirs {
   }
 };
 
-F32x8 random_lanes(PCG32& rng) {
-  F32x8 v;
+LF random_lanes(PCG32& rng) {
+  LF v;
   for (int k = 0; k < W; ++k) v[k] = rng.next_float();
   return v;
 }
@@ -86,7 +86,7 @@ std::vector<RoughDielectricLobe> dielectric_lobes() {
 }
 
 constexpr int kRounds = 4000;  // × 8 lanes
-const I32x8 kAll = ~I32x8{};
+const LI kAll = ~LI{};
 
 TEST(PathLanesLobes, ConductorValueAndDensityAsTheScalarLobe) {
   const std::vector<GGXConductorLobe> lobes = conductor_lobes();
@@ -104,7 +104,7 @@ TEST(PathLanesLobes, ConductorValueAndDensityAsTheScalarLobe) {
       wi.d[k] = random_direction(rng);
       if (k % 2 == 0 && wi.d[k].z * wo.d[k].z < 0) wi.d[k].z = -wi.d[k].z;
     }
-    F32x8 f[kSpectrumSamples], pdf;
+    LF f[kSpectrumSamples], pdf;
     conductor_eval_pdf(C, wo.vec(), wi.vec(), kAll, kAll, f, &pdf);
     for (int k = 0; k < W; ++k) {
       const GGXConductorLobe& l = lobes[size_t(which[k])];
@@ -138,10 +138,10 @@ void check_samples(const std::vector<LobeT>& lobes, Vertices proto, uint64_t see
       V.set(k, Lobe(lobes[size_t(which[k])]), 1, which[k]);
       wo.d[k] = random_direction(rng);
     }
-    const F32x8 uc = random_lanes(rng), ux = random_lanes(rng), uy = random_lanes(rng);
+    const LF uc = random_lanes(rng), ux = random_lanes(rng), uy = random_lanes(rng);
     V3 wi;
-    I32x8 through{};
-    const I32x8 ok = lane_sample(V, wo.vec(), uc, ux, uy, &wi, &through);
+    LI through{};
+    const LI ok = lane_sample(V, wo.vec(), uc, ux, uy, &wi, &through);
     for (int k = 0; k < W; ++k) {
       SampledWavelengths lambda = SampledWavelengths::sample_visible(0.3f);
       const BSDFSample s = lobes[size_t(which[k])].sample(wo.d[k], uc[k], {ux[k], uy[k]}, lambda,
@@ -169,7 +169,7 @@ void check_samples(const std::vector<LobeT>& lobes, Vertices proto, uint64_t see
 
 TEST(PathLanesLobes, ConductorSampleAsTheScalarLobe) {
   check_samples(conductor_lobes(), ConductorVertices{}, 12,
-                [](const ConductorVertices& C, const V3& wo, F32x8 uc, F32x8 ux, F32x8 uy, V3* wi, I32x8*) {
+                [](const ConductorVertices& C, const V3& wo, LF uc, LF ux, LF uy, V3* wi, LI*) {
                   return conductor_sample(C, wo, uc, ux, uy, kAll, wi);
                 });
 }
@@ -201,7 +201,7 @@ TEST(PathLanesLobes, DielectricValueAndDensityAsTheScalarLobe) {
       wo.d[k] = random_direction(rng);
       wi.d[k] = random_direction(rng);
     }
-    F32x8 f, pdf;
+    LF f, pdf;
     dielectric_eval_pdf(Dv, wo.vec(), wi.vec(), kAll, kAll, &f, &pdf);
     for (int k = 0; k < W; ++k) {
       const RoughDielectricLobe& l = lobes[size_t(which[k])];
@@ -225,7 +225,7 @@ TEST(PathLanesLobes, DielectricSampleAsTheScalarLobe) {
   DielectricVertices proto;
   proto.terms = tables.terms.data();
   check_samples(lobes, proto, 13,
-                [](const DielectricVertices& Dv, const V3& wo, F32x8 uc, F32x8 ux, F32x8 uy, V3* wi, I32x8* through) {
+                [](const DielectricVertices& Dv, const V3& wo, LF uc, LF ux, LF uy, V3* wi, LI* through) {
                   return dielectric_sample(Dv, wo, uc, ux, uy, kAll, wi, through);
                 });
 }

@@ -14,10 +14,16 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def test_build_info_names_compiler_target_and_profile():
     b = kauri.build_info
-    assert set(b) == {"compiler", "march", "pgo", "cores"}
+    assert set(b) == {"compiler", "march", "pgo", "cores", "path_lanes"}
     assert "base" in b["cores"] and set(b["cores"]) <= {"base", "x86-64-v4"}
     assert b["pgo"] in ("off", "generate", "use")
     assert b["compiler"].split()[0] in ("GNU", "Clang", "AppleClang") and b["march"]
+
+
+def test_path_lanes_follow_the_loaded_core():
+    # 16 lanes in the AVX-512 core, 8 in the AVX2 one (0: a build without the vector types).
+    b = kauri.build_info
+    assert b["path_lanes"] in ((16,) if b["march"] == "x86-64-v4" else (8, 0))
 
 
 def test_default_build_is_profile_guided():

@@ -25,6 +25,7 @@ def test_help_lists_commands_and_options():
 def test_version():
     r = run("--version")
     assert r.returncode == 0 and r.stdout.startswith("kauri ")
+    assert "path lanes: " in r.stdout
 
 
 SCENE = textwrap.dedent("""

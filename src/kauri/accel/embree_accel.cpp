@@ -240,16 +240,28 @@ void EmbreeAccel::occluded_one_packet(const Ray* rays, int m, bool* blocked) con
   for (int k = 0; k < m; ++k) blocked[k] = by_direct[k] || ray.tfar[k] < 0;
 }
 
-void EmbreeAccel::intersect8(const int* valid, RTCRayHit8* rh) const {
+void EmbreeAccel::intersect_lanes(const int* valid, RTCRayHit8* rh) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   rtcIntersect8(valid, root_, &ctx, rh);
 }
 
-void EmbreeAccel::occluded8(const int* valid, RTCRay8* ray) const {
+void EmbreeAccel::occluded_lanes(const int* valid, RTCRay8* ray) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   rtcOccluded8(valid, root_, &ctx, ray);
+}
+
+void EmbreeAccel::intersect_lanes(const int* valid, RTCRayHit16* rh) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  rtcIntersect16(valid, root_, &ctx, rh);
+}
+
+void EmbreeAccel::occluded_lanes(const int* valid, RTCRay16* ray) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  rtcOccluded16(valid, root_, &ctx, ray);
 }
 
 void EmbreeAccel::intersect_stream(const Ray* rays, size_t n, int width, HitRecord* hits, bool* found) const {

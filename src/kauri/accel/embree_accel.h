@@ -43,7 +43,7 @@ class EmbreeAccel {
   /// the quads.
   static bool quad_pairs(const MeshView& m);
   /// Per root geometry id: 1 where Embree holds the mesh as quads (its hits are mapped by
-  /// quad_hit here; callers of intersect8 map them themselves).
+  /// quad_hit here; callers of intersect_lanes map them themselves).
   const std::vector<uint8_t>& root_quads() const { return root_quads_; }
   /// A hit (u, v) on the quad `prim` of a quad_pairs() mesh as the hit on its triangle
   /// 2·prim or 2·prim + 1 with that triangle's barycentrics. Embree's quad (v0 … v3)
@@ -112,11 +112,14 @@ class EmbreeAccel {
   void intersect_stream(const Ray* rays, size_t n, int width, HitRecord* hits, bool* found) const;
   /// Whether each of `n` rays is blocked, `width` at a time, as occluded() ray by ray.
   void occluded_stream(const Ray* rays, size_t n, int width, bool* blocked) const;
-  /// rtcIntersect8 / rtcOccluded8 on a packet the caller has filled in Embree's layout
-  /// (structures of arrays, as the path lanes keep their rays), lanes where valid[k] = −1.
-  /// Embree's geometry alone: the caller tests the direct shapes (nearest_direct_shape).
-  void intersect8(const int* valid, RTCRayHit8* rh) const;
-  void occluded8(const int* valid, RTCRay8* ray) const;
+  /// rtcIntersect8/16 / rtcOccluded8/16 on a packet the caller has filled in Embree's
+  /// layout (structures of arrays, as the path lanes keep their rays), lanes where
+  /// valid[k] = −1. Embree's geometry alone: the caller tests the direct shapes
+  /// (nearest_direct_shape).
+  void intersect_lanes(const int* valid, RTCRayHit8* rh) const;
+  void occluded_lanes(const int* valid, RTCRay8* ray) const;
+  void intersect_lanes(const int* valid, RTCRayHit16* rh) const;
+  void occluded_lanes(const int* valid, RTCRay16* ray) const;
   bool occluded(const Ray& r) const {
     if (blocked_by_direct(r)) return true;
     RTCIntersectContext ctx;
@@ -134,7 +137,7 @@ class EmbreeAccel {
     return ray.tfar < 0;  // Embree sets tfar = −inf on a hit
   }
   /// Shapes tested directly (tests, statistics), and the shapes themselves: callers that
-  /// give Embree its packets themselves (intersect8, occluded8; the path lanes) test them
+  /// give Embree its packets themselves (intersect_lanes, occluded_lanes; the path lanes) test them
   /// first, as intersect() and occluded() do, and report a hit on one as direct_hit does
   /// (its geometry id, primitive 0, u = v = 0).
   size_t direct_shape_count() const { return direct_.size(); }

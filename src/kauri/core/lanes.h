@@ -18,6 +18,9 @@ typedef float F32x4 __attribute__((vector_size(16)));
 typedef uint32_t U32x8 __attribute__((vector_size(32)));
 typedef int32_t I32x8 __attribute__((vector_size(32)));
 typedef float F32x8 __attribute__((vector_size(32)));
+typedef uint32_t U32x16 __attribute__((vector_size(64)));
+typedef int32_t I32x16 __attribute__((vector_size(64)));
+typedef float F32x16 __attribute__((vector_size(64)));
 }  // namespace kauri::lanes
 #else
 #define KAURI_LANE_VECTORS 0
@@ -81,7 +84,35 @@ inline void load_rows4(const float* table, I32x8 index, __m256 column[4]) {
   column[0] = _mm256_shuffle_ps(u0, u2, 0x44), column[1] = _mm256_shuffle_ps(u0, u2, 0xEE);
   column[2] = _mm256_shuffle_ps(u1, u3, 0x44), column[3] = _mm256_shuffle_ps(u1, u3, 0xEE);
 }
+
+#if defined(__AVX512F__) && defined(__AVX512DQ__)
+#define KAURI_LANES_AVX512 1
+/// Lanes 0–7 and 8–15 of a 16-lane vector, and the two halves joined.
+inline I32x8 low_half(I32x16 v) { return __builtin_shufflevector(v, v, 0, 1, 2, 3, 4, 5, 6, 7); }
+inline I32x8 high_half(I32x16 v) { return __builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15); }
+inline F32x16 join(F32x8 lo, F32x8 hi) {
+  return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+}
+/// load_columns8 for 16 rows: each half's 8 × 8 transpose, joined (AVX-512 has no cheaper
+/// 16 × 8 transpose of 32-byte rows).
+inline void load_columns16(const float* table, int stride, I32x16 index, int c, F32x16 column[8]) {
+  __m256 lo[8], hi[8];
+  load_columns8(table, stride, low_half(index), c, lo);
+  load_columns8(table, stride, high_half(index), c, hi);
+  for (int j = 0; j < 8; ++j) column[j] = join(F32x8(lo[j]), F32x8(hi[j]));
+}
+/// load_rows4 for 16 rows.
+inline void load_rows4(const float* table, I32x16 index, F32x16 column[4]) {
+  __m256 lo[4], hi[4];
+  load_rows4(table, low_half(index), lo);
+  load_rows4(table, high_half(index), hi);
+  for (int j = 0; j < 4; ++j) column[j] = join(F32x8(lo[j]), F32x8(hi[j]));
+}
+#else
+#define KAURI_LANES_AVX512 0
+#endif
 }  // namespace kauri::lanes
 #else
 #define KAURI_LANES_AVX2 0
+#define KAURI_LANES_AVX512 0
 #endif

@@ -39,8 +39,16 @@
 // group's packets; a sparser group hands the path over there, to trace_path() from that
 // hit with the lane's state, and its lane ends, as every group does at a material whose
 // weights read vertex attributes (which the lanes do not interpolate). Other scenes take
-// trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2); a CUDA
-// build runs trace_path().
+// trace_path() one path at a time. Host CPU code (GCC/Clang vector types, AVX2; AVX-512
+// in the x86-64-v4 core); a CUDA build runs trace_path().
+//
+// The lane count follows the core's instruction set, as Dr.Jit's LLVM kernels follow the
+// machine: 8 lanes (one AVX2 register of floats) in the x86-64-v3 core, 16 (one AVX-512
+// register) in the x86-64-v4 core, with Embree's 16-wide packets. The code is written once
+// over LF / LI (the lane vectors); the few steps across lanes that GCC does not find by
+// itself (masks, the tables' row transposes, gathers) have a version per width. On the
+// bench's Xeon (AVX-512) the 16 lanes took 3–7% off the render time of every lanes scene
+// against 8 in the same core (docs/benchmarks.md).
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -57,8 +65,9 @@
 
 namespace kauri {
 
-/// Paths a group traces together: one AVX2 vector of floats.
-inline constexpr int kPathLanes = 8;
+/// Paths a group traces together: one vector of floats, 16 lanes where the core is
+/// compiled for AVX-512 (the x86-64-v4 core), else 8 (AVX2).
+inline constexpr int kPathLanes = KAURI_LANES_AVX512 ? 16 : 8;
 
 /// Triangles at most for the lanes: their tables (LaneTriangles) cost 64 bytes a triangle
 /// besides the scene's own, 160 with uv and shading normals (32–80 MiB at this count). Larger scenes spend most of
@@ -161,47 +170,77 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
 
 #if KAURI_PATH_LANES
 namespace path_lanes_detail {
-using lanes::F32x8;
-using lanes::I32x8;
 constexpr int W = kPathLanes;
+#if KAURI_LANES_AVX512
+using LF = lanes::F32x16;
+using LI = lanes::I32x16;
+using LU = lanes::U32x16;
+using RTCRayHitW = RTCRayHit16;
+using RTCRayW = RTCRay16;
+#else
+using LF = lanes::F32x8;
+using LI = lanes::I32x8;
+using LU = lanes::U32x8;
+using RTCRayHitW = RTCRayHit8;
+using RTCRayW = RTCRay8;
+#endif
+/// Bytes of a lane vector: the alignment of the lanes' columns.
+constexpr int kLaneBytes = int(sizeof(LF));
 
 struct V3 {
-  F32x8 x, y, z;
+  LF x, y, z;
 };
-inline F32x8 splat(Float v) { return F32x8{} + v; }
+inline LF splat(Float v) { return LF{} + v; }
 inline V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 inline V3 operator-(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline V3 operator*(const V3& a, F32x8 s) { return {a.x * s, a.y * s, a.z * s}; }
+inline V3 operator*(const V3& a, LF s) { return {a.x * s, a.y * s, a.z * s}; }
 inline V3 operator-(const V3& a) { return {-a.x, -a.y, -a.z}; }
-inline F32x8 dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline LF dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 inline V3 cross(const V3& a, const V3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline F32x8 vsqrt(F32x8 x) { return __builtin_ia32_sqrtps256(x); }
-inline F32x8 vabs(F32x8 x) { return (F32x8)((I32x8)x & 0x7fffffff); }
-inline F32x8 vmax(F32x8 a, F32x8 b) { return a > b ? a : b; }
-inline F32x8 vmin(F32x8 a, F32x8 b) { return a < b ? a : b; }
+#if KAURI_LANES_AVX512
+inline LF vsqrt(LF x) { return LF(_mm512_sqrt_ps(__m512(x))); }
+/// The lanes set in `m` as bits (lane k: bit k).
+inline int mask_bits(LI m) { return int(_mm512_movepi32_mask(__m512i(m))); }
+inline LF vfloor(LF x) { return LF(_mm512_roundscale_ps(__m512(x), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC)); }
+#else
+inline LF vsqrt(LF x) { return __builtin_ia32_sqrtps256(x); }
+inline int mask_bits(LI m) { return _mm256_movemask_ps((__m256)m); }
+inline LF vfloor(LF x) { return LF(_mm256_floor_ps(__m256(x))); }
+#endif
+/// Every lane set.
+inline bool all(LI m) { return mask_bits(m) == (1 << W) - 1; }
+/// Lane k holds k.
+inline LI lane_index() {
+  LI v;
+  for (int k = 0; k < W; ++k) v[k] = k;
+  return v;
+}
+inline LF vabs(LF x) { return (LF)((LI)x & 0x7fffffff); }
+inline LF vmax(LF a, LF b) { return a > b ? a : b; }
+inline LF vmin(LF a, LF b) { return a < b ? a : b; }
 inline V3 normalize(const V3& a) { return a * (1 / vsqrt(dot(a, a))); }
-inline V3 select(I32x8 m, const V3& a, const V3& b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
-inline bool any(I32x8 m) { return _mm256_movemask_ps((__m256)m) != 0; }
+inline V3 select(LI m, const V3& a, const V3& b) { return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z}; }
+inline bool any(LI m) { return mask_bits(m) != 0; }
 
 /// A float array of W lanes as one vector and back.
-inline F32x8 load(const float* a) {
-  F32x8 v;
+inline LF load(const float* a) {
+  LF v;
   __builtin_memcpy(&v, a, sizeof v);
   return v;
 }
-inline void store(F32x8 v, float* a) { __builtin_memcpy(a, &v, sizeof v); }
-inline I32x8 load(const int32_t* a) {
-  I32x8 v;
+inline void store(LF v, float* a) { __builtin_memcpy(a, &v, sizeof v); }
+inline LI load(const int32_t* a) {
+  LI v;
   __builtin_memcpy(&v, a, sizeof v);
   return v;
 }
-inline void store(I32x8 v, int32_t* a) { __builtin_memcpy(a, &v, sizeof v); }
+inline void store(LI v, int32_t* a) { __builtin_memcpy(a, &v, sizeof v); }
 
 /// Three float arrays (x, y, z) of W lanes.
 struct V3Lanes {
-  alignas(32) float x[W], y[W], z[W];
+  alignas(kLaneBytes) float x[W], y[W], z[W];
   void set(int k, Vec3 v) { x[k] = v.x, y[k] = v.y, z[k] = v.z; }
   Vec3 get(int k) const { return {x[k], y[k], z[k]}; }
   V3 load() const { return {path_lanes_detail::load(x), path_lanes_detail::load(y), path_lanes_detail::load(z)}; }
@@ -211,7 +250,7 @@ struct V3Lanes {
 };
 /// A spectrum per lane: wavelength i of every lane in v[i].
 struct SpectrumLanes {
-  alignas(32) float v[kSpectrumSamples][W];
+  alignas(kLaneBytes) float v[kSpectrumSamples][W];
   void set(int k, const SampledSpectrum& s) {
     for (int i = 0; i < kSpectrumSamples; ++i) v[i][k] = s[i];
   }
@@ -223,54 +262,54 @@ struct SpectrumLanes {
 };
 
 /// cos_sin_quarter over lanes (the same polynomial).
-inline void cos_sin_quarter(F32x8 phi, F32x8* c, F32x8* s) {
-  const F32x8 x2 = phi * phi;
+inline void cos_sin_quarter(LF phi, LF* c, LF* s) {
+  const LF x2 = phi * phi;
   *c = 1 + x2 * (-1.0f / 2 + x2 * (1.0f / 24 + x2 * (-1.0f / 720 + x2 * (1.0f / 40320 - x2 * (1.0f / 3628800)))));
   *s = phi * (1 + x2 * (-1.0f / 6 + x2 * (1.0f / 120 + x2 * (-1.0f / 5040 + x2 * (1.0f / 362880)))));
 }
 
 /// sample_cosine_hemisphere over lanes.
-inline V3 sample_cosine_hemisphere(F32x8 ux, F32x8 uy) {
-  const F32x8 a = 2 * ux - 1, b = 2 * uy - 1;
-  const F32x8 abs_a = vabs(a), abs_b = vabs(b);
-  const I32x8 wedge_a = abs_b < abs_a;
-  const F32x8 r = wedge_a ? a : b, q = wedge_a ? b : a;
-  const I32x8 centre = (a == 0) & (b == 0);
-  F32x8 c, s;
+inline V3 sample_cosine_hemisphere(LF ux, LF uy) {
+  const LF a = 2 * ux - 1, b = 2 * uy - 1;
+  const LF abs_a = vabs(a), abs_b = vabs(b);
+  const LI wedge_a = abs_b < abs_a;
+  const LF r = wedge_a ? a : b, q = wedge_a ? b : a;
+  const LI centre = (a == 0) & (b == 0);
+  LF c, s;
   cos_sin_quarter(kPiOver4 * (q / (centre ? splat(1) : r)), &c, &s);
-  const F32x8 dx = centre ? F32x8{} : r * (wedge_a ? c : s);
-  const F32x8 dy = centre ? F32x8{} : r * (wedge_a ? s : c);
-  const F32x8 rr = vmax(abs_a, abs_b);
-  const F32x8 z2 = (1 - rr) * (1 + rr);
-  return {dx, dy, vsqrt(z2 > 0 ? z2 : F32x8{})};
+  const LF dx = centre ? LF{} : r * (wedge_a ? c : s);
+  const LF dy = centre ? LF{} : r * (wedge_a ? s : c);
+  const LF rr = vmax(abs_a, abs_b);
+  const LF z2 = (1 - rr) * (1 + rr);
+  return {dx, dy, vsqrt(z2 > 0 ? z2 : LF{})};
 }
 
 /// power_heuristic over lanes.
-inline F32x8 power_heuristic(F32x8 pa, F32x8 pb) {
-  const F32x8 a = pa * pa, b = pb * pb;
-  const F32x8 s = a + b;
-  const F32x8 w = s > 0 ? a / (s > 0 ? s : splat(1)) : F32x8{};
+inline LF power_heuristic(LF pa, LF pb) {
+  const LF a = pa * pa, b = pb * pb;
+  const LF s = a + b;
+  const LF w = s > 0 ? a / (s > 0 ? s : splat(1)) : LF{};
   return a < kInfinity ? w : splat(1);
 }
 
 /// path_detail::rr_survival over lanes (cbrt_unit's bit guess and two Newton steps).
-inline F32x8 rr_survival(F32x8 beta_max) {
-  const F32x8 x = vmax(beta_max, splat(1.17549435e-38f));
-  F32x8 y = (F32x8)((I32x8)((lanes::U32x8)x / 3u + 709921077u));
+inline LF rr_survival(LF beta_max) {
+  const LF x = vmax(beta_max, splat(1.17549435e-38f));
+  LF y = (LF)((LI)((LU)x / 3u + 709921077u));
   y = (2 * y + x / (y * y)) * Float(1.0f / 3);
   y = (2 * y + x / (y * y)) * Float(1.0f / 3);
   y = vmin(y, splat(1));
-  return beta_max > 0 ? (beta_max >= 1 ? splat(1) : y) : F32x8{};
+  return beta_max > 0 ? (beta_max >= 1 ? splat(1) : y) : LF{};
 }
 
 /// The shading frame Frame::from_zx(n, dpdu) over lanes; lanes whose tangent degenerates
 /// take Frame::from_z one by one.
 inline void shading_frames(const V3& n, const V3& dpdu, V3* fx, V3* fy) {
   const V3 t = dpdu - n * dot(n, dpdu);
-  const F32x8 l2 = dot(t, t);
-  const I32x8 ok = l2 > 1e-12f;
+  const LF l2 = dot(t, t);
+  const LI ok = l2 > 1e-12f;
   *fx = t * (1 / vsqrt(ok ? l2 : splat(1)));
-  if (!_mm256_testc_si256((__m256i)ok, _mm256_set1_epi32(-1))) {
+  if (!all(ok)) {
     for (int k = 0; k < W; ++k)
       if (!ok[k]) {
         const Frame f = Frame::from_z(Vec3{n.x[k], n.y[k], n.z[k]});
@@ -279,7 +318,7 @@ inline void shading_frames(const V3& n, const V3& dpdu, V3* fx, V3* fy) {
   }
   *fy = cross(n, *fx);
   // from_z's second tangent is coordinate_system's, not n × x in general: take it too.
-  if (!_mm256_testc_si256((__m256i)ok, _mm256_set1_epi32(-1))) {
+  if (!all(ok)) {
     for (int k = 0; k < W; ++k)
       if (!ok[k]) {
         const Frame f = Frame::from_z(Vec3{n.x[k], n.y[k], n.z[k]});
@@ -290,9 +329,9 @@ inline void shading_frames(const V3& n, const V3& dpdu, V3* fx, V3* fy) {
 
 /// PathState's fields as columns, lane k of each the state of path k.
 struct PathColumns {
-  alignas(32) int32_t depth[W], diffuse_depth[W], glossy_depth[W], transmission_depth[W];
-  alignas(32) int32_t last_segment[W], specular[W], any_non_specular[W];  // -1: true
-  alignas(32) float prev_pdf[W], eta_scale[W];
+  alignas(kLaneBytes) int32_t depth[W], diffuse_depth[W], glossy_depth[W], transmission_depth[W];
+  alignas(kLaneBytes) int32_t last_segment[W], specular[W], any_non_specular[W];  // -1: true
+  alignas(kLaneBytes) float prev_pdf[W], eta_scale[W];
   V3Lanes prev_p, prev_n;
   SpectrumLanes beta;
   /// PathState of lane k, for the per-lane code shared with trace_path.
@@ -327,7 +366,7 @@ struct PathColumns {
     prev_n.set(k, st.prev_n);
   }
   /// Lanes `m` of every column from `o`.
-  void take(I32x8 m, const PathColumns& o) {
+  void take(LI m, const PathColumns& o) {
     auto take_int = [&](int32_t(PathColumns::*f)[W]) { store(m ? load(o.*f) : load(this->*f), this->*f); };
     auto take_float = [&](float(PathColumns::*f)[W]) { store(m ? load(o.*f) : load(this->*f), this->*f); };
     take_int(&PathColumns::depth), take_int(&PathColumns::diffuse_depth), take_int(&PathColumns::glossy_depth);
@@ -342,7 +381,7 @@ struct PathColumns {
 
 /// The lanes' paths between bounces: their states, and what they have gathered.
 struct Paths : PathColumns {
-  alignas(32) int32_t alive[W];  // -1: the path goes on; 0: it has ended
+  alignas(kLaneBytes) int32_t alive[W];  // -1: the path goes on; 0: it has ended
   SpectrumLanes L, L_direct;
   EmissionCache emission[W];
   /// PathOutput::add into the lanes' sums: light seen directly or via one bounce is
@@ -356,23 +395,23 @@ struct Paths : PathColumns {
 
 /// A bounce's vertices: what the per-lane part finds for the vector part.
 struct Vertices {
-  alignas(32) int32_t scatter[W];   // -1: the lane samples light and its BSDF
-  alignas(32) int32_t conductor[W]; // -1: that BSDF is a GGX conductor
-  alignas(32) int32_t dielectric[W];// -1: a rough dielectric
-  alignas(32) int32_t specular[W];  // -1: a mirror or smooth glass (none of these: Lambert)
-  alignas(32) int32_t nee[W];       // -1: next-event estimation has a light
+  alignas(kLaneBytes) int32_t scatter[W];   // -1: the lane samples light and its BSDF
+  alignas(kLaneBytes) int32_t conductor[W]; // -1: that BSDF is a GGX conductor
+  alignas(kLaneBytes) int32_t dielectric[W];// -1: a rough dielectric
+  alignas(kLaneBytes) int32_t specular[W];  // -1: a mirror or smooth glass (none of these: Lambert)
+  alignas(kLaneBytes) int32_t nee[W];       // -1: next-event estimation has a light
   V3Lanes p, ng, ns, wo, dpdu;
-  alignas(32) float uv[2][W];
+  alignas(kLaneBytes) float uv[2][W];
   SpectrumLanes albedo;              // w_b · ρ(λ)
-  alignas(32) float u_light[2][W], u_lobe[W], u_rr[W], u_bsdf[2][W];
-  alignas(32) float light_pmf[W];
-  alignas(32) int32_t light_index[W];  // a triangle light's row (LaneTriangles::lights)
+  alignas(kLaneBytes) float u_light[2][W], u_lobe[W], u_rr[W], u_bsdf[2][W];
+  alignas(kLaneBytes) float light_pmf[W];
+  alignas(kLaneBytes) int32_t light_index[W];  // a triangle light's row (LaneTriangles::lights)
   // An infinite light's sample (sample_light, lane by lane): −1 in light_dir, its direction
   // and solid-angle density; light_delta −1 for a distant light.
-  alignas(32) int32_t light_dir[W], light_delta[W];
-  alignas(32) int32_t env[W];  // −1: an environment image's sample, taken across the lanes
+  alignas(kLaneBytes) int32_t light_dir[W], light_delta[W];
+  alignas(kLaneBytes) int32_t env[W];  // −1: an environment image's sample, taken across the lanes
   V3Lanes light_wi;
-  alignas(32) float light_pdf[W];
+  alignas(kLaneBytes) float light_pdf[W];
   SpectrumLanes Le;
 };
 /// A bounce's vertices of materials whose BSDFs the lanes build, sample and evaluate lane
@@ -380,12 +419,12 @@ struct Vertices {
 /// group's packet, and the path's state after the BSDF sample, which the lanes take once
 /// the group's estimates are added.
 struct BsdfVertices {
-  alignas(32) int32_t active[W];  // -1: the lane's vertex is one of these
-  alignas(32) int32_t nee[W];     // -1: a shadow ray, and c
-  alignas(32) int32_t alive[W];   // -1: the path goes on from `next`
+  alignas(kLaneBytes) int32_t active[W];  // -1: the lane's vertex is one of these
+  alignas(kLaneBytes) int32_t nee[W];     // -1: a shadow ray, and c
+  alignas(kLaneBytes) int32_t alive[W];   // -1: the path goes on from `next`
   SpectrumLanes c;                // what the estimate adds where the shadow ray is unoccluded
   V3Lanes shadow_o, shadow_d, wi;
-  alignas(32) float shadow_tmax[W];
+  alignas(kLaneBytes) float shadow_tmax[W];
   PathColumns next;
 };
 }  // namespace path_lanes_detail
@@ -393,64 +432,68 @@ struct BsdfVertices {
 namespace path_lanes_detail {
 /// Lane k of a vector triple.
 inline Vec3 lane(const V3& v, int k) { return {v.x[k], v.y[k], v.z[k]}; }
-/// Columns 8c … 8c + 7 of the rows `index` of a LaneTriangles table (lanes::load_columns8).
+/// Columns 8c … 8c + 7 of the rows `index` of a LaneTriangles table (lanes::load_columns8,
+/// per 8 lanes).
 template <class Row>
-inline void load_columns(const Row* table, I32x8 index, int c, F32x8 column[8]) {
+inline void load_columns(const Row* table, LI index, int c, LF column[8]) {
   static_assert(sizeof(Row) % 32 == 0 && alignof(Row) >= 32, "rows of whole 32-byte columns");
+#if KAURI_LANES_AVX512
+  lanes::load_columns16(reinterpret_cast<const float*>(table), int(sizeof(Row) / sizeof(float)), index, c, column);
+#else
   __m256 v[8];
   lanes::load_columns8(reinterpret_cast<const float*>(table), int(sizeof(Row) / sizeof(float)), index, c, v);
   __builtin_memcpy(column, v, sizeof v);
+#endif
 }
 /// offset_ray_origin over lanes (the same steps, axis by axis).
-inline F32x8 offset_axis(F32x8 p, F32x8 n) {
+inline LF offset_axis(LF p, LF n) {
   constexpr Float kOrigin = 1.0f / 32.0f, kFloatScale = 1.0f / 65536.0f, kIntScale = 256.0f;
-  const I32x8 of_i = __builtin_convertvector(kIntScale * n, I32x8);
-  const I32x8 negative = p < 0;
-  const F32x8 scaled = (F32x8)((I32x8)p + ((of_i ^ negative) - negative));
-  const F32x8 abs_p = (F32x8)((I32x8)p & 0x7fffffff);
+  const LI of_i = __builtin_convertvector(kIntScale * n, LI);
+  const LI negative = p < 0;
+  const LF scaled = (LF)((LI)p + ((of_i ^ negative) - negative));
+  const LF abs_p = (LF)((LI)p & 0x7fffffff);
   return abs_p < kOrigin ? p + kFloatScale * n : scaled;
 }
 inline V3 offset_ray_origin(const V3& p, const V3& n) {
   return {offset_axis(p.x, n.x), offset_axis(p.y, n.y), offset_axis(p.z, n.z)};
 }
 inline V3 splat3(Vec3 v) { return {splat(v.x), splat(v.y), splat(v.z)}; }
-inline F32x8 copysign(F32x8 mag, F32x8 sign) {
-  return (F32x8)(((I32x8)mag & 0x7fffffff) | ((I32x8)sign & int32_t(0x80000000u)));
+inline LF copysign(LF mag, LF sign) {
+  return (LF)(((LI)mag & 0x7fffffff) | ((LI)sign & int32_t(0x80000000u)));
 }
 /// intersect_sphere over lanes, the same steps (Haines et al. 2019): the lanes whose ray
 /// meets `sp` in (0, tmax), and there t.
-inline I32x8 intersect_sphere(const SphereShape& sp, const V3& o, const V3& d, F32x8 tmax, F32x8* t_hit) {
+inline LI intersect_sphere(const SphereShape& sp, const V3& o, const V3& d, LF tmax, LF* t_hit) {
   const V3 f = o - splat3(sp.center);
-  const F32x8 a = dot(d, d), B = dot(f, d), r2 = splat(sp.radius * sp.radius);
+  const LF a = dot(d, d), B = dot(f, d), r2 = splat(sp.radius * sp.radius);
   const V3 l = f - d * (B / a);
-  const F32x8 disc = a * (r2 - dot(l, l));
-  I32x8 hit = disc >= 0;
-  const F32x8 q = -B - copysign(vsqrt(hit ? disc : F32x8{}), B);
+  const LF disc = a * (r2 - dot(l, l));
+  LI hit = disc >= 0;
+  const LF q = -B - copysign(vsqrt(hit ? disc : LF{}), B);
   hit &= q != 0;  // tangent at the origin
-  const F32x8 t0 = q / a, t1 = (dot(f, f) - r2) / (hit ? q : splat(1));
-  const I32x8 swap = t0 > t1;
-  const F32x8 near = swap ? t1 : t0, far = swap ? t0 : t1;
-  const F32x8 t = near > 0 ? near : far;
+  const LF t0 = q / a, t1 = (dot(f, f) - r2) / (hit ? q : splat(1));
+  const LI swap = t0 > t1;
+  const LF near = swap ? t1 : t0, far = swap ? t0 : t1;
+  const LF t = near > 0 ? near : far;
   *t_hit = t;
   return hit & (t > 0) & (t < tmax);
 }
 /// intersect_disk over lanes, the same steps.
-inline I32x8 intersect_disk(const DiskShape& dk, const V3& o, const V3& d, F32x8 tmax, F32x8* t_hit) {
+inline LI intersect_disk(const DiskShape& dk, const V3& o, const V3& d, LF tmax, LF* t_hit) {
   const V3 n = splat3(dk.normal), c = splat3(dk.center);
-  const F32x8 dn = dot(d, n);
-  I32x8 hit = dn != 0;
-  const F32x8 t = dot(c - o, n) / (hit ? dn : splat(1));
+  const LF dn = dot(d, n);
+  LI hit = dn != 0;
+  const LF t = dot(c - o, n) / (hit ? dn : splat(1));
   const V3 off = (o + d * t) - c;
   *t_hit = t;
   return hit & (t > 0) & (t < tmax) & ~(dot(off, off) > splat(dk.radius * dk.radius));
 }
-inline I32x8 intersect_direct(const DirectShape& s, const V3& o, const V3& d, F32x8 tmax, F32x8* t_hit) {
+inline LI intersect_direct(const DirectShape& s, const V3& o, const V3& d, LF tmax, LF* t_hit) {
   return s.type == ShapeType::Sphere ? intersect_sphere(s.sphere, o, d, tmax, t_hit)
                                      : intersect_disk(s.disk, o, d, tmax, t_hit);
 }
 /// The lanes set in `m` (a movemask), lowest first: for per-lane loops that skip dead
 /// lanes without a branch per lane on their pattern.
-inline int mask_bits(I32x8 m) { return _mm256_movemask_ps((__m256)m); }
 inline int next_lane(int* bits) {
   const int k = __builtin_ctz(unsigned(*bits));
   *bits &= *bits - 1;
@@ -565,17 +608,17 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   DielectricVertices Dv;  // and of V.dielectric
   Dv.terms = tris.dielectric_ms;
   SpecularVertices S;     // and of V.specular
-  alignas(32) float ray_o[3][W], ray_d[3][W], hit_t[W], hit_u[W], hit_v[W];
-  alignas(32) int32_t hit_geom[W], hit_prim[W];
+  alignas(kLaneBytes) float ray_o[3][W], ray_d[3][W], hit_t[W], hit_u[W], hit_v[W];
+  alignas(kLaneBytes) int32_t hit_geom[W], hit_prim[W];
   // A camera path's PathState, in every lane (whole columns at once).
-  store(I32x8{0, 1, 2, 3, 4, 5, 6, 7} < n, P.alive);
+  store(lane_index() < n, P.alive);
   for (int32_t* c : {P.depth, P.diffuse_depth, P.glossy_depth, P.transmission_depth, P.last_segment, P.specular,
                      P.any_non_specular})
-    store(I32x8{}, c);
-  store(F32x8{}, P.prev_pdf), store(splat(1), P.eta_scale);
+    store(LI{}, c);
+  store(LF{}, P.prev_pdf), store(splat(1), P.eta_scale);
   P.prev_p.store(V3{}), P.prev_n.store(V3{});
   for (int i = 0; i < kSpectrumSamples; ++i)
-    store(splat(1), P.beta.v[i]), store(F32x8{}, P.L.v[i]), store(F32x8{}, P.L_direct.v[i]);
+    store(splat(1), P.beta.v[i]), store(LF{}, P.L.v[i]), store(LF{}, P.L_direct.v[i]);
   for (int k = 0; k < W; ++k) {
     const Ray& r = rays[k < n ? k : 0];
     for (int a = 0; a < 3; ++a) ray_o[a][k] = r.o[a], ray_d[a][k] = r.d[a];
@@ -587,67 +630,67 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     hit_v[k] = hit ? primary[k].v : 0;
   }
   V3 o{load(ray_o[0]), load(ray_o[1]), load(ray_o[2])}, d{load(ray_d[0]), load(ray_d[1]), load(ray_d[2])};
-  I32x8 geom = load(hit_geom), prim = load(hit_prim);
-  F32x8 t = load(hit_t), hu = load(hit_u), hv = load(hit_v);
-  I32x8 ray_count{};
-  alignas(32) RTCRayHit8 rh;
-  alignas(32) RTCRay8 shadow;
+  LI geom = load(hit_geom), prim = load(hit_prim);
+  LF t = load(hit_t), hu = load(hit_u), hv = load(hit_v);
+  LI ray_count{};
+  alignas(kLaneBytes) RTCRayHitW rh;
+  alignas(kLaneBytes) RTCRayW shadow;
   // The packets' fields that stay the same: Embree writes a query's tfar and hit only.
-  for (RTCRay8* r : {&rh.ray, &shadow}) {
-    put(r->tnear, F32x8{}), put(r->time, F32x8{});
-    put(r->mask, ~I32x8{}), put(r->id, I32x8{}), put(r->flags, I32x8{});
+  for (RTCRayW* r : {&rh.ray, &shadow}) {
+    put(r->tnear, LF{}), put(r->time, LF{});
+    put(r->mask, ~LI{}), put(r->id, LI{}), put(r->flags, LI{});
   }
-  alignas(32) int32_t valid[W];
+  alignas(kLaneBytes) int32_t valid[W];
   LaneSpectra spectra;  // the wavelengths and illuminant as columns, for environment images
   const bool tree = cfg.light_tree && s.light_tree.n_nodes > 0;  // choose_light reads the point and normal
   const size_t n_direct = accel.direct_shape_count();
   const DirectShape* direct_shapes = accel.direct_shapes();
   for (bool first = true;; first = false) {
-    I32x8 alive = load(P.alive);
+    LI alive = load(P.alive);
     if (!first) {
       put(rh.ray.org_x, o.x), put(rh.ray.org_y, o.y), put(rh.ray.org_z, o.z);
       put(rh.ray.dir_x, d.x), put(rh.ray.dir_y, d.y), put(rh.ray.dir_z, d.z);
       // The direct shapes first, across the lanes, as EmbreeAccel::intersect: a hit
       // shortens the ray Embree traverses. `direct_geom`: the nearest one's geometry id.
-      F32x8 tmax = splat(kInfinity);
-      I32x8 direct_geom = ~I32x8{};
+      LF tmax = splat(kInfinity);
+      LI direct_geom = ~LI{};
       for (size_t i = 0; i < n_direct; ++i) {
-        F32x8 ti;
-        const I32x8 h = alive & intersect_direct(direct_shapes[i], o, d, tmax, &ti);
+        LF ti;
+        const LI h = alive & intersect_direct(direct_shapes[i], o, d, tmax, &ti);
         tmax = h ? ti : tmax;
-        direct_geom = h ? I32x8{} + int32_t(direct_shapes[i].geom) : direct_geom;
+        direct_geom = h ? LI{} + int32_t(direct_shapes[i].geom) : direct_geom;
       }
       put(rh.ray.tfar, tmax);
-      put(rh.hit.geomID, ~I32x8{}), put(rh.hit.instID[0], ~I32x8{});
+      put(rh.hit.geomID, ~LI{}), put(rh.hit.instID[0], ~LI{});
       store(alive, valid);
-      accel.intersect8(valid, &rh);
+      accel.intersect_lanes(valid, &rh);
       geom = load(reinterpret_cast<const int32_t*>(rh.hit.geomID));
       prim = load(reinterpret_cast<const int32_t*>(rh.hit.primID));
       t = load(rh.ray.tfar), hu = load(rh.hit.u), hv = load(rh.hit.v);
       if (n_direct) {  // Embree missed, a direct shape was met: its hit (EmbreeAccel::direct_hit)
-        const I32x8 take = alive & (geom == -1) & (direct_geom >= 0);
-        geom = take ? direct_geom : geom, prim = take ? I32x8{} : prim;
-        t = take ? tmax : t, hu = take ? F32x8{} : hu, hv = take ? F32x8{} : hv;
+        const LI take = alive & (geom == -1) & (direct_geom >= 0);
+        geom = take ? direct_geom : geom, prim = take ? LI{} : prim;
+        t = take ? tmax : t, hu = take ? LF{} : hu, hv = take ? LF{} : hv;
       }
     }
     // The hit shapes' rows (LaneShapeRow; lanes without a hit read row 0).
-    F32x8 shape_row[8];
-    load_columns(tris.shapes, (alive & (geom >= 0)) ? geom : I32x8{}, 0, shape_row);
-    const I32x8 shape_first = (I32x8)shape_row[0], shape_material = (I32x8)shape_row[2];
-    const I32x8 shape_light = (I32x8)shape_row[3], shape_has_n = (I32x8)shape_row[4];
+    LF shape_row[8];
+    load_columns(tris.shapes, (alive & (geom >= 0)) ? geom : LI{}, 0, shape_row);
+    const LI shape_first = (LI)shape_row[0], shape_material = (LI)shape_row[2];
+    const LI shape_light = (LI)shape_row[3], shape_has_n = (LI)shape_row[4];
     if (!first && tris.any_quads) {  // a quad's hit as its triangle's (EmbreeAccel::quad_hit)
-      const I32x8 quad = alive & (geom >= 0) & (I32x8)shape_row[1];
-      const I32x8 second = quad & (hu + hv > 1);
+      const LI quad = alive & (geom >= 0) & (LI)shape_row[1];
+      const LI second = quad & (hu + hv > 1);
       prim = quad ? prim + prim + (second & 1) : prim;
-      const F32x8 qu = second ? 1 - hv : 1 - hu - hv, qv = second ? hu + hv - 1 : hu;
+      const LF qu = second ? 1 - hv : 1 - hu - hv, qv = second ? hu + hv - 1 : hu;
       hu = quad ? qu : hu, hv = quad ? qv : hv;
     }
     ray_count += alive & 1;
-    const I32x8 escaped = alive & (geom == -1);
+    const LI escaped = alive & (geom == -1);
     if (s.n_infinite_lights > 0 && any(escaped)) {
       // The infinite lights as trace_path's escaped_radiance: an environment image across
       // the lanes for the paths that have bounced, the rest lane by lane.
-      const I32x8 bounced = escaped & (load(P.depth) > 0);
+      const LI bounced = escaped & (load(P.depth) > 0);
       for (int i = 0; i < s.n_infinite_lights; ++i) {
         const int li = s.infinite_lights[i];
         const Light& l = s.lights[li];
@@ -669,10 +712,10 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
 
     // The surface at the hits (triangle_hit), across the lanes; spheres and disks lane by
     // lane below.
-    const I32x8 mesh = alive & (shape_first >= 0);
-    const I32x8 tri = mesh ? shape_first + prim : I32x8{};
-    const F32x8 w = 1 - hu - hv;
-    F32x8 row[16];  // LaneTriangleRow
+    const LI mesh = alive & (shape_first >= 0);
+    const LI tri = mesh ? shape_first + prim : LI{};
+    const LF w = 1 - hu - hv;
+    LF row[16];  // LaneTriangleRow
     load_columns(tris.triangles, tri, 0, row);
     load_columns(tris.triangles, tri, 1, row + 8);
     const V3 p0{row[0], row[1], row[2]}, p1{row[3], row[4], row[5]}, p2{row[6], row[7], row[8]};
@@ -680,32 +723,32 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     V3 ng{row[9], row[10], row[11]};
     V3 ns = ng;
     V3 dpdu{row[12], row[13], row[14]};
-    F32x8 uv[2] = {};
+    LF uv[2] = {};
     if (tris.uv) {  // scenes without textures skip the uv rows
-      F32x8 r[8];
+      LF r[8];
       load_columns(tris.uv, tri, 0, r);
       for (int a = 0; a < 2; ++a) uv[a] = r[a] * w + r[2 + a] * hu + r[4 + a] * hv;
     }
-    const I32x8 has_n = shape_has_n & mesh;
+    const LI has_n = shape_has_n & mesh;
     if (any(has_n)) {
-      F32x8 r[16];
+      LF r[16];
       load_columns(tris.normals, tri, 0, r);
       load_columns(tris.normals, tri, 1, r + 8);
       const V3 nv = V3{r[0], r[1], r[2]} * w + V3{r[3], r[4], r[5]} * hu + V3{r[6], r[7], r[8]} * hv;
-      const F32x8 l2 = dot(nv, nv);
+      const LF l2 = dot(nv, nv);
       const V3 nn = nv * (1 / vsqrt(l2 > 0 ? l2 : splat(1)));
       ns = select(has_n & (l2 > 0), select(dot(nn, ng) < 0, -nn, nn), ng);
     }
     const V3 wo = -d;
-    alignas(32) int32_t material[W], light[W];
-    store(mesh ? shape_material : ~I32x8{}, material);
-    store((mesh & (shape_light >= 0)) ? shape_light + prim : ~I32x8{}, light);
+    alignas(kLaneBytes) int32_t material[W], light[W];
+    store(mesh ? shape_material : ~LI{}, material);
+    store((mesh & (shape_light >= 0)) ? shape_light + prim : ~LI{}, light);
     V.p.store(p), V.ng.store(ng), V.ns.store(ns), V.wo.store(wo), V.dpdu.store(dpdu);
     store(uv[0], V.uv[0]), store(uv[1], V.uv[1]);
     // A group down to half its lanes or fewer hands its paths over at kLaneBsdf vertices
     // (kBsdfLanesMin).
     const bool sparse = __builtin_popcount(unsigned(mask_bits(alive))) < kBsdfLanesMin;
-    const I32x8 analytic = alive & ~mesh;
+    const LI analytic = alive & ~mesh;
     if (any(analytic)) {  // compute_surface_hit lane by lane
       for (int bits = mask_bits(analytic); bits;) {
         const int k = next_lane(&bits);
@@ -724,9 +767,9 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     }
 
     // Per lane: emission, the light choice, the BSDF's albedo, the sampler's values.
-    store(I32x8{}, V.scatter), store(I32x8{}, V.conductor), store(I32x8{}, V.dielectric), store(I32x8{}, V.specular);
-    store(I32x8{}, V.nee), store(I32x8{}, V.env);
-    store(I32x8{}, G.active), store(I32x8{}, G.nee);
+    store(LI{}, V.scatter), store(LI{}, V.conductor), store(LI{}, V.dielectric), store(LI{}, V.specular);
+    store(LI{}, V.nee), store(LI{}, V.env);
+    store(LI{}, G.active), store(LI{}, G.nee);
     for (int bits = mask_bits(alive); bits;) {
       const int k = next_lane(&bits);
       PathOutput& out = outs[k];
@@ -843,7 +886,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       V.u_rr[k] = u[1].y;
       V.u_bsdf[0][k] = u[2].x, V.u_bsdf[1][k] = u[2].y;
     }
-    const I32x8 scatter = load(V.scatter), bsdf_lanes = load(G.active);
+    const LI scatter = load(V.scatter), bsdf_lanes = load(G.active);
     if (!any(scatter | bsdf_lanes)) break;  // every path ended at this bounce
 
     // Across the lanes: the shading frame and ω_o in it.
@@ -851,14 +894,14 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     shading_frames(ns, dpdu, &fx, &fy);
     const V3& fz = ns;
     const V3 wo_l{dot(wo, fx), dot(wo, fy), dot(wo, fz)};
-    const F32x8 wo_ng = dot(wo, ng);
-    F32x8 albedo[kSpectrumSamples];
+    const LF wo_ng = dot(wo, ng);
+    LF albedo[kSpectrumSamples];
     for (int i = 0; i < kSpectrumSamples; ++i) albedo[i] = load(V.albedo.v[i]) * kInvPi;
     // A direction's BSDF value is albedo/π where ω_o and ω_i are on one side of the surface
     // by both normals (BSDF::shading_normal_correction) and of the shading frame.
     auto lambert_mask = [&](const V3& wi, const V3& wi_l) {
-      const I32x8 same = wo_l.z * wi_l.z > 0;
-      const I32x8 geo = wo_ng * dot(wi, ng) > 0;
+      const LI same = wo_l.z * wi_l.z > 0;
+      const LI geo = wo_ng * dot(wi, ng) > 0;
       return same & ~(same ^ geo) & (wo_l.z != 0);
     };
     // shading_normal_correction: ω_o, ω_i on one side by the geometric normal as by the
@@ -866,75 +909,75 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     auto same_side = [&](const V3& wi, const V3& wi_l) {
       return ~((wo_l.z * wi_l.z > 0) ^ (wo_ng * dot(wi, ng) > 0));
     };
-    const I32x8 conductor_lanes = load(V.conductor), dielectric_lanes = load(V.dielectric);
-    const I32x8 specular_lanes = load(V.specular);
+    const LI conductor_lanes = load(V.conductor), dielectric_lanes = load(V.dielectric);
+    const LI specular_lanes = load(V.specular);
 
     // Next-event estimation (sample_direct): a point on the chosen triangle, or the
     // direction an infinite light's sample took.
     if (any(load(V.env))) sample_env_lights(s, tris, lambda, n, spectra, V);
-    const I32x8 nee = load(V.nee), bsdf_nee = load(G.nee) & bsdf_lanes;
+    const LI nee = load(V.nee), bsdf_nee = load(G.nee) & bsdf_lanes;
     if (any(nee | bsdf_nee)) {
-      const I32x8 dir = nee & load(V.light_dir);
-      const F32x8 ux = load(V.u_light[0]), uy = load(V.u_light[1]);
-      const I32x8 lower = ux < uy;
-      const F32x8 h = (lower ? ux : uy) / 2;
-      const F32x8 b0 = lower ? h : ux - h, b1 = lower ? uy - h : h;
-      F32x8 lr[16];  // LaneLightRow
-      const I32x8 light_row = (nee & ~dir) ? load(V.light_index) : I32x8{};
+      const LI dir = nee & load(V.light_dir);
+      const LF ux = load(V.u_light[0]), uy = load(V.u_light[1]);
+      const LI lower = ux < uy;
+      const LF h = (lower ? ux : uy) / 2;
+      const LF b0 = lower ? h : ux - h, b1 = lower ? uy - h : h;
+      LF lr[16];  // LaneLightRow
+      const LI light_row = (nee & ~dir) ? load(V.light_index) : LI{};
       load_columns(tris.lights, light_row, 0, lr);
       load_columns(tris.lights, light_row, 1, lr + 8);
       const V3 pl = V3{lr[0], lr[1], lr[2]} * b0 + V3{lr[3], lr[4], lr[5]} * b1 + V3{lr[6], lr[7], lr[8]} * (1 - b0 - b1);
       const V3 nl{lr[9], lr[10], lr[11]};
       const V3 dl = pl - p;
-      const F32x8 d2 = dot(dl, dl);
+      const LF d2 = dot(dl, dl);
       const V3 wi_tri = dl * (1 / vsqrt(d2 > 0 ? d2 : splat(1)));
-      const F32x8 nd = vabs(dot(nl, dl));
-      const F32x8 pdf_tri = nd > 0 ? lr[12] * (d2 / (nd > 0 ? nd : splat(1))) * vsqrt(d2) : F32x8{};
+      const LF nd = vabs(dot(nl, dl));
+      const LF pdf_tri = nd > 0 ? lr[12] * (d2 / (nd > 0 ? nd : splat(1))) * vsqrt(d2) : LF{};
       const V3 wi = select(dir, V.light_wi.load(), wi_tri);
-      const F32x8 pdf_l = dir ? load(V.light_pdf) : pdf_tri;
-      const I32x8 emits = dir | (I32x8)lr[13] | (dot(nl, -wi) > 0);
+      const LF pdf_l = dir ? load(V.light_pdf) : pdf_tri;
+      const LI emits = dir | (LI)lr[13] | (dot(nl, -wi) > 0);
       const V3 wi_l{dot(wi, fx), dot(wi, fy), dot(wi, fz)};
-      const I32x8 reflects = lambert_mask(wi, wi_l);
-      F32x8 pdf_b = (wo_l.z * wi_l.z > 0) ? vabs(wi_l.z) * kInvPi : F32x8{};
-      const F32x8 cos_i = vabs(dot(wi, fz));
-      F32x8 f_nee[kSpectrumSamples];  // f |cos θ_i|
-      for (int i = 0; i < kSpectrumSamples; ++i) f_nee[i] = reflects ? albedo[i] * cos_i : F32x8{};
-      const I32x8 nee_conductor = nee & conductor_lanes;
+      const LI reflects = lambert_mask(wi, wi_l);
+      LF pdf_b = (wo_l.z * wi_l.z > 0) ? vabs(wi_l.z) * kInvPi : LF{};
+      const LF cos_i = vabs(dot(wi, fz));
+      LF f_nee[kSpectrumSamples];  // f |cos θ_i|
+      for (int i = 0; i < kSpectrumSamples; ++i) f_nee[i] = reflects ? albedo[i] * cos_i : LF{};
+      const LI nee_conductor = nee & conductor_lanes;
       if (any(nee_conductor)) {
-        F32x8 f_c[kSpectrumSamples], pdf_c;
+        LF f_c[kSpectrumSamples], pdf_c;
         conductor_eval_pdf(C, wo_l, wi_l, nee_conductor, same_side(wi, wi_l), f_c, &pdf_c);
         pdf_b = nee_conductor ? pdf_c : pdf_b;
         for (int i = 0; i < kSpectrumSamples; ++i) f_nee[i] = nee_conductor ? f_c[i] * cos_i : f_nee[i];
       }
-      const I32x8 nee_dielectric = nee & dielectric_lanes;
+      const LI nee_dielectric = nee & dielectric_lanes;
       if (any(nee_dielectric)) {
-        F32x8 f_d, pdf_d;
+        LF f_d, pdf_d;
         dielectric_eval_pdf(Dv, wo_l, wi_l, nee_dielectric, same_side(wi, wi_l), &f_d, &pdf_d);
         pdf_b = nee_dielectric ? pdf_d : pdf_b;
         for (int i = 0; i < kSpectrumSamples; ++i) f_nee[i] = nee_dielectric ? f_d * cos_i : f_nee[i];
       }
-      const F32x8 p_light = load(V.light_pmf) * pdf_l;
-      const F32x8 w_mis = (dir & load(V.light_delta)) ? splat(1) : power_heuristic(p_light, pdf_b);
-      const F32x8 wm = w_mis / (p_light > 0 ? p_light : splat(1));
-      I32x8 any_f{}, any_L{};
-      F32x8 c[kSpectrumSamples];
+      const LF p_light = load(V.light_pmf) * pdf_l;
+      const LF w_mis = (dir & load(V.light_delta)) ? splat(1) : power_heuristic(p_light, pdf_b);
+      const LF wm = w_mis / (p_light > 0 ? p_light : splat(1));
+      LI any_f{}, any_L{};
+      LF c[kSpectrumSamples];
       for (int i = 0; i < kSpectrumSamples; ++i) {
-        const F32x8 f = f_nee[i];
-        const F32x8 Le = load(V.Le.v[i]);
+        const LF f = f_nee[i];
+        const LF Le = load(V.Le.v[i]);
         any_f |= f != 0;
         any_L |= Le != 0;
         c[i] = f * Le * wm;
       }
       if (any(bsdf_nee))
         for (int i = 0; i < kSpectrumSamples; ++i) c[i] = bsdf_nee ? load(G.c.v[i]) : c[i];
-      const I32x8 test = (nee & (dir | (d2 > 0)) & (pdf_l > 0) & emits & any_f & any_L) | bsdf_nee;
+      const LI test = (nee & (dir | (d2 > 0)) & (pdf_l > 0) & emits & any_f & any_L) | bsdf_nee;
       if (any(test)) {
         ray_count += test & 1;
         // spawn_ray_to: from the offset origin to just short of the light point; spawn_ray
         // towards an infinite light. The BSDF lanes' rays as direct_sample spawned them.
         V3 so = offset_ray_origin(p, side_normal(ng, select(dir, wi, dl)));
         V3 sd = select(dir, wi, pl - so);
-        F32x8 stmax = dir ? splat(kInfinity) : splat(1 - 1e-4f);
+        LF stmax = dir ? splat(kInfinity) : splat(1 - 1e-4f);
         if (any(bsdf_nee)) {
           so = select(bsdf_nee, G.shadow_o.load(), so), sd = select(bsdf_nee, G.shadow_d.load(), sd);
           stmax = bsdf_nee ? load(G.shadow_tmax) : stmax;
@@ -943,89 +986,89 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         put(shadow.dir_x, sd.x), put(shadow.dir_y, sd.y), put(shadow.dir_z, sd.z);
         put(shadow.tfar, stmax);
         // As EmbreeAccel::occluded: a direct shape answers first.
-        I32x8 unblocked = test;
+        LI unblocked = test;
         for (size_t i = 0; i < n_direct; ++i) {
-          F32x8 ti;
+          LF ti;
           unblocked &= ~intersect_direct(direct_shapes[i], so, sd, stmax, &ti);
         }
         store(unblocked, valid);
-        accel.occluded8(valid, &shadow);
+        accel.occluded_lanes(valid, &shadow);
         // Paths::add of β·c across the lanes: light reached from the first vertex is direct.
-        const I32x8 lit = load(valid) & (load(shadow.tfar) >= 0);
-        const I32x8 first_vertex = load(P.depth) == 0;
+        const LI lit = load(valid) & (load(shadow.tfar) >= 0);
+        const LI first_vertex = load(P.depth) == 0;
         for (int i = 0; i < kSpectrumSamples; ++i) {
-          const F32x8 add = lit ? load(P.beta.v[i]) * c[i] : F32x8{};
-          store(load(P.L_direct.v[i]) + (first_vertex ? add : F32x8{}), P.L_direct.v[i]);
-          store(load(P.L.v[i]) + (first_vertex ? F32x8{} : add), P.L.v[i]);
+          const LF add = lit ? load(P.beta.v[i]) * c[i] : LF{};
+          store(load(P.L_direct.v[i]) + (first_vertex ? add : LF{}), P.L_direct.v[i]);
+          store(load(P.L.v[i]) + (first_vertex ? LF{} : add), P.L.v[i]);
         }
       }
     }
 
     // The BSDF sample: a cosine-weighted direction on ω_o's side.
-    const F32x8 ux = load(V.u_bsdf[0]), uy = load(V.u_bsdf[1]);
+    const LF ux = load(V.u_bsdf[0]), uy = load(V.u_bsdf[1]);
     V3 wi_l = sample_cosine_hemisphere(ux, uy);
     wi_l.z = wo_l.z < 0 ? -wi_l.z : wi_l.z;
-    F32x8 pdf = vabs(wi_l.z) * kInvPi;
+    LF pdf = vabs(wi_l.z) * kInvPi;
     V3 wi = fx * wi_l.x + fy * wi_l.y + fz * wi_l.z;
-    const I32x8 reflects = lambert_mask(wi, wi_l) & (pdf > 0);
+    const LI reflects = lambert_mask(wi, wi_l) & (pdf > 0);
     // A conductor's sample (GGXConductorLobe::sample), valued at its direction.
-    const I32x8 sample_conductor = scatter & conductor_lanes;
-    F32x8 f_sample[kSpectrumSamples];
-    for (int i = 0; i < kSpectrumSamples; ++i) f_sample[i] = reflects ? albedo[i] : F32x8{};
+    const LI sample_conductor = scatter & conductor_lanes;
+    LF f_sample[kSpectrumSamples];
+    for (int i = 0; i < kSpectrumSamples; ++i) f_sample[i] = reflects ? albedo[i] : LF{};
     if (any(sample_conductor)) {
-      F32x8 f_c[kSpectrumSamples];
+      LF f_c[kSpectrumSamples];
       V3 wc_l;
-      const I32x8 ok = conductor_sample(C, wo_l, load(V.u_lobe), ux, uy, sample_conductor, &wc_l);
+      const LI ok = conductor_sample(C, wo_l, load(V.u_lobe), ux, uy, sample_conductor, &wc_l);
       const V3 wc = fx * wc_l.x + fy * wc_l.y + fz * wc_l.z;
-      F32x8 pdf_c;
+      LF pdf_c;
       conductor_eval_pdf(C, wo_l, wc_l, ok, same_side(wc, wc_l), f_c, &pdf_c);
-      const I32x8 valid = ok & (pdf_c > 0);
+      const LI valid = ok & (pdf_c > 0);
       for (int i = 0; i < kSpectrumSamples; ++i)
-        f_sample[i] = sample_conductor ? (valid ? f_c[i] : F32x8{}) : f_sample[i];
+        f_sample[i] = sample_conductor ? (valid ? f_c[i] : LF{}) : f_sample[i];
       wi_l = select(sample_conductor, wc_l, wi_l), wi = select(sample_conductor, wc, wi);
       pdf = sample_conductor ? pdf_c : pdf;
     }
     // A rough dielectric's (RoughDielectricLobe::sample), likewise; a refraction scales η.
-    const I32x8 sample_dielectric = scatter & dielectric_lanes;
-    I32x8 refracted{};
-    F32x8 eta_scale = load(P.eta_scale);
+    const LI sample_dielectric = scatter & dielectric_lanes;
+    LI refracted{};
+    LF eta_scale = load(P.eta_scale);
     if (any(sample_dielectric)) {
       V3 wd_l;
-      const I32x8 ok = dielectric_sample(Dv, wo_l, load(V.u_lobe), ux, uy, sample_dielectric, &wd_l, &refracted);
+      const LI ok = dielectric_sample(Dv, wo_l, load(V.u_lobe), ux, uy, sample_dielectric, &wd_l, &refracted);
       const V3 wd = fx * wd_l.x + fy * wd_l.y + fz * wd_l.z;
-      F32x8 f_d, pdf_d;
+      LF f_d, pdf_d;
       dielectric_eval_pdf(Dv, wo_l, wd_l, ok, same_side(wd, wd_l), &f_d, &pdf_d);
-      const I32x8 valid = ok & (pdf_d > 0);
-      for (int i = 0; i < kSpectrumSamples; ++i) f_sample[i] = sample_dielectric ? (valid ? f_d : F32x8{}) : f_sample[i];
+      const LI valid = ok & (pdf_d > 0);
+      for (int i = 0; i < kSpectrumSamples; ++i) f_sample[i] = sample_dielectric ? (valid ? f_d : LF{}) : f_sample[i];
       wi_l = select(sample_dielectric, wd_l, wi_l), wi = select(sample_dielectric, wd, wi);
       pdf = sample_dielectric ? pdf_d : pdf;
       // s.eta = e (relative_eta) for a refraction; eta_scale *= e² once the path goes on.
-      const F32x8 eta = load(Dv.eta), e = wo_l.z > 0 ? eta : 1 / eta;
+      const LF eta = load(Dv.eta), e = wo_l.z > 0 ? eta : 1 / eta;
       refracted &= valid;
       eta_scale = refracted ? eta_scale * (e * e) : eta_scale;
     }
     // A mirror's or smooth glass's (the specular lanes'), likewise.
-    const I32x8 sample_specular = scatter & specular_lanes;
+    const LI sample_specular = scatter & specular_lanes;
     if (any(sample_specular)) {
       V3 ws_l;
-      F32x8 f_s[kSpectrumSamples], pdf_s, eta_s;
-      I32x8 refr;
-      const I32x8 ok = specular_sample(S, wo_l, load(V.u_lobe), sample_specular, &ws_l, f_s, &pdf_s, &refr, &eta_s);
+      LF f_s[kSpectrumSamples], pdf_s, eta_s;
+      LI refr;
+      const LI ok = specular_sample(S, wo_l, load(V.u_lobe), sample_specular, &ws_l, f_s, &pdf_s, &refr, &eta_s);
       const V3 ws = fx * ws_l.x + fy * ws_l.y + fz * ws_l.z;
-      const I32x8 valid = ok & same_side(ws, ws_l);
-      for (int i = 0; i < kSpectrumSamples; ++i) f_sample[i] = sample_specular ? (valid ? f_s[i] : F32x8{}) : f_sample[i];
+      const LI valid = ok & same_side(ws, ws_l);
+      for (int i = 0; i < kSpectrumSamples; ++i) f_sample[i] = sample_specular ? (valid ? f_s[i] : LF{}) : f_sample[i];
       wi_l = select(sample_specular, ws_l, wi_l), wi = select(sample_specular, ws, wi);
       pdf = sample_specular ? pdf_s : pdf;
       refr &= valid;
       refracted |= refr;
       eta_scale = refr ? eta_scale * (eta_s * eta_s) : eta_scale;
     }
-    const F32x8 cos_over_pdf = vabs(dot(wi, fz)) / (pdf > 0 ? pdf : splat(1));
-    F32x8 beta[kSpectrumSamples];
-    I32x8 any_f{};
-    F32x8 beta_max{};
+    const LF cos_over_pdf = vabs(dot(wi, fz)) / (pdf > 0 ? pdf : splat(1));
+    LF beta[kSpectrumSamples];
+    LI any_f{};
+    LF beta_max{};
     for (int i = 0; i < kSpectrumSamples; ++i) {
-      const F32x8 f = f_sample[i];
+      const LF f = f_sample[i];
       any_f |= f != 0;
       beta[i] = load(P.beta.v[i]) * (f * cos_over_pdf);
       beta_max = i == 0 ? beta[i] : vmax(beta_max, beta[i]);
@@ -1033,19 +1076,19 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     alive = scatter & any_f;
     // record_scatter of a diffuse (Lambert), glossy (a conductor's, a dielectric's
     // reflection) or transmission event, then Russian roulette (trace_path).
-    const I32x8 depth = load(P.depth) + (alive & 1);
-    const I32x8 glossy_event = (sample_conductor | sample_dielectric | sample_specular) & ~refracted;
-    const I32x8 diffuse = load(P.diffuse_depth) + (alive & ~(sample_conductor | sample_dielectric | sample_specular) & 1);
-    const I32x8 glossy = load(P.glossy_depth) + (alive & glossy_event & 1);
-    const I32x8 transmission = load(P.transmission_depth) + (alive & refracted & 1);
-    const I32x8 last = load(P.last_segment) | (alive & ~((diffuse <= cfg.max_diffuse) & (glossy <= cfg.max_glossy) &
+    const LI depth = load(P.depth) + (alive & 1);
+    const LI glossy_event = (sample_conductor | sample_dielectric | sample_specular) & ~refracted;
+    const LI diffuse = load(P.diffuse_depth) + (alive & ~(sample_conductor | sample_dielectric | sample_specular) & 1);
+    const LI glossy = load(P.glossy_depth) + (alive & glossy_event & 1);
+    const LI transmission = load(P.transmission_depth) + (alive & refracted & 1);
+    const LI last = load(P.last_segment) | (alive & ~((diffuse <= cfg.max_diffuse) & (glossy <= cfg.max_glossy) &
                                                         (transmission <= cfg.max_transmission)));
-    const I32x8 roulette = alive & ~last & (diffuse >= cfg.rr_min_depth);
+    const LI roulette = alive & ~last & (diffuse >= cfg.rr_min_depth);
     eta_scale = alive ? eta_scale : load(P.eta_scale);
-    const F32x8 q = rr_survival(beta_max * eta_scale);  // refraction's scale removed
+    const LF q = rr_survival(beta_max * eta_scale);  // refraction's scale removed
     alive &= ~(roulette & ~(load(V.u_rr) < q));
-    const F32x8 inv_q = roulette ? 1 / (q > 0 ? q : splat(1)) : splat(1);
-    I32x8 finite = ~I32x8{};
+    const LF inv_q = roulette ? 1 / (q > 0 ? q : splat(1)) : splat(1);
+    LI finite = ~LI{};
     for (int i = 0; i < kSpectrumSamples; ++i) {
       beta[i] = roulette ? beta[i] * inv_q : beta[i];
       finite &= vabs(beta[i]) < kInfinity;
@@ -1074,7 +1117,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     o = offset_ray_origin(p, side_normal(ng, wi_next));
     d = wi_next;
   }
-  alignas(32) int32_t ray_lane[W];
+  alignas(kLaneBytes) int32_t ray_lane[W];
   store(ray_count, ray_lane);
   for (int k = 0; k < n; ++k) {  // added to what a handed-over path's trace_path gathered
     outs[k].L += P.L.get(k);

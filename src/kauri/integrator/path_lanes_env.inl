@@ -1,4 +1,4 @@
-// Environment images across the path lanes (included by path_lanes.h), for 8 lanes at
+// Environment images across the path lanes (included by path_lanes.h), for all lanes at
 // once: what a path that escapes after its first bounce receives from an image
 // (escaped_radiance_of: its radiance and next-event density along the direction, the MIS
 // weight), and next-event estimation's samples of an image (sample_env). Lane by lane
@@ -12,48 +12,60 @@
 namespace path_lanes_detail {
 
 /// atan2_poly over lanes (the same polynomial, fold and quadrant steps).
-inline F32x8 atan2_poly(F32x8 y, F32x8 x) {
-  const F32x8 ax = vabs(x), ay = vabs(y);
-  const I32x8 x_larger = ax > ay;
-  const F32x8 hi = x_larger ? ax : ay, lo = x_larger ? ay : ax;
-  const F32x8 r = hi > 0 ? lo / (hi > 0 ? hi : splat(1)) : F32x8{};
-  const I32x8 fold = r > Float(0.41421356f);  // tan(π/8)
-  const F32x8 z = fold ? (r - 1) / (r + 1) : r;
-  const F32x8 z2 = z * z;
-  const F32x8 p =
+inline LF atan2_poly(LF y, LF x) {
+  const LF ax = vabs(x), ay = vabs(y);
+  const LI x_larger = ax > ay;
+  const LF hi = x_larger ? ax : ay, lo = x_larger ? ay : ax;
+  const LF r = hi > 0 ? lo / (hi > 0 ? hi : splat(1)) : LF{};
+  const LI fold = r > Float(0.41421356f);  // tan(π/8)
+  const LF z = fold ? (r - 1) / (r + 1) : r;
+  const LF z2 = z * z;
+  const LF p =
       z2 * (-0.33333316f + z2 * (0.19998547f + z2 * (-0.14244778f + z2 * (0.10602067f + z2 * -0.06097298f))));
-  F32x8 a = z + z * p + (fold ? splat(0.78539816f) : F32x8{});
+  LF a = z + z * p + (fold ? splat(0.78539816f) : LF{});
   a = ay > ax ? Float(1.57079633f) - a : a;
   a = x < 0 ? Float(3.14159265f) - a : a;
-  return (F32x8)((I32x8)a ^ ((I32x8)y & int32_t(0x80000000u)));  // −a where y's sign bit is set
+  return (LF)((LI)a ^ ((LI)y & int32_t(0x80000000u)));  // −a where y's sign bit is set
 }
 /// acos_poly over lanes.
-inline F32x8 acos_poly(F32x8 x) {
+inline LF acos_poly(LF x) {
   x = vmin(vmax(x, splat(-1)), splat(1));
   return atan2_poly(vsqrt((1 - x) * (1 + x)), x);
 }
 
 /// table[index] in every lane.
-inline F32x8 gather(const float* table, I32x8 index) {
-  __m256i i;
-  __builtin_memcpy(&i, &index, sizeof i);
-  return F32x8(_mm256_i32gather_ps(table, i, 4));
+inline LF gather(const float* table, LI index) {
+#if KAURI_LANES_AVX512
+  return LF(_mm512_i32gather_ps(__m512i(index), table, 4));
+#else
+  return LF(_mm256_i32gather_ps(table, __m256i(index), 4));
+#endif
+}
+/// lanes::load_rows4 at the lanes' width.
+inline void load_rows4(const float* table, LI index, LF column[4]) {
+#if KAURI_LANES_AVX512
+  lanes::load_rows4(table, index, column);
+#else
+  __m256 c[4];
+  lanes::load_rows4(table, index, c);
+  for (int j = 0; j < 4; ++j) column[j] = LF(c[j]);
+#endif
 }
 /// cos_sin_turns over lanes: (cos 2πt, sin 2πt) from the nearest quarter turn.
-inline void cos_sin_turns(F32x8 t, F32x8* cos, F32x8* sin) {
-  const F32x8 q = _mm256_floor_ps(4 * t + Float(0.5));
-  F32x8 c, s;
+inline void cos_sin_turns(LF t, LF* cos, LF* sin) {
+  const LF q = vfloor(4 * t + Float(0.5));
+  LF c, s;
   cos_sin_quarter(2 * kPi * (t - Float(0.25) * q), &c, &s);
-  const I32x8 k = __builtin_convertvector(q, I32x8) & 3;
-  const I32x8 odd = (k & 1) != 0;
-  const I32x8 x = (I32x8)(odd ? s : c), y = (I32x8)(odd ? c : s);
-  *cos = (F32x8)(x ^ (((k + 1) & 2) << 30));
-  *sin = (F32x8)(y ^ ((k & 2) << 30));
+  const LI k = __builtin_convertvector(q, LI) & 3;
+  const LI odd = (k & 1) != 0;
+  const LI x = (LI)(odd ? s : c), y = (LI)(odd ? c : s);
+  *cos = (LF)(x ^ (((k + 1) & 2) << 30));
+  *sin = (LF)(y ^ ((k & 2) << 30));
 }
 /// find_interval over lanes, for each lane in the n + 1 entries at cdf + offset: the same
 /// halving steps, a gather each.
-inline I32x8 find_interval(const float* cdf, I32x8 offset, int n, F32x8 u) {
-  I32x8 lo{};
+inline LI find_interval(const float* cdf, LI offset, int n, LF u) {
+  LI lo{};
   for (int len = n; len > 1;) {
     const int half = len / 2;
     lo = gather(cdf, offset + lo + half) <= u ? lo + half : lo;
@@ -63,17 +75,17 @@ inline I32x8 find_interval(const float* cdf, I32x8 offset, int n, F32x8 u) {
 }
 /// Distribution1D::sample_continuous over lanes, each lane's distribution the n bins at
 /// cdf + cdf_offset (n + 1 entries) and func + func_offset with ∫ `integral`.
-inline F32x8 sample_continuous(const float* cdf, const float* func, I32x8 cdf_offset, I32x8 func_offset, F32x8 integral,
-                               int n, F32x8 u, F32x8* pdf, I32x8* bin) {
-  const I32x8 i = find_interval(cdf, cdf_offset, n, u);
-  const F32x8 c0 = gather(cdf, cdf_offset + i), width = gather(cdf, cdf_offset + i + 1) - c0;
-  const F32x8 du = width > 0 ? (u - c0) / (width > 0 ? width : splat(1)) : splat(0.5f);
-  *pdf = integral > 0 ? gather(func, func_offset + i) / (integral > 0 ? integral : splat(1)) : F32x8{};
+inline LF sample_continuous(const float* cdf, const float* func, LI cdf_offset, LI func_offset, LF integral,
+                               int n, LF u, LF* pdf, LI* bin) {
+  const LI i = find_interval(cdf, cdf_offset, n, u);
+  const LF c0 = gather(cdf, cdf_offset + i), width = gather(cdf, cdf_offset + i + 1) - c0;
+  const LF du = width > 0 ? (u - c0) / (width > 0 ? width : splat(1)) : splat(0.5f);
+  *pdf = integral > 0 ? gather(func, func_offset + i) / (integral > 0 ? integral : splat(1)) : LF{};
   *bin = i;
-  F32x8 x = vmin((__builtin_convertvector(i, F32x8) + du) / Float(n), splat(kOneMinusEpsilon));
+  LF x = vmin((__builtin_convertvector(i, LF) + du) / Float(n), splat(kOneMinusEpsilon));
   // Rounding can put x in a neighbouring bin: the scalar steps, in the (rare) lanes that need them.
-  const I32x8 xi = __builtin_convertvector(x * Float(n), I32x8);
-  const I32x8 outside = (xi < i) | ((i < n - 1) & (xi > i));
+  const LI xi = __builtin_convertvector(x * Float(n), LI);
+  const LI outside = (xi < i) | ((i < n - 1) & (xi > i));
   for (int bits = mask_bits(outside); bits;) {
     const int k = next_lane(&bits);
     Float xk = x[k];
@@ -88,9 +100,9 @@ inline F32x8 sample_continuous(const float* cdf, const float* func, I32x8 cdf_of
 /// i of every lane in [i]): computed once per group, when a path first escapes after a bounce.
 struct LaneSpectra {
   bool ready = false;
-  F32x8 lambda[kSpectrumSamples] = {}, illuminant[kSpectrumSamples] = {};
+  LF lambda[kSpectrumSamples] = {}, illuminant[kSpectrumSamples] = {};
   void prepare(const SampledWavelengths* lambdas, int n, const DenselySampled& I) {
-    alignas(32) float lam[kSpectrumSamples][W], ill[kSpectrumSamples][W];
+    alignas(kLaneBytes) float lam[kSpectrumSamples][W], ill[kSpectrumSamples][W];
     for (int k = 0; k < W; ++k) {
       const SampledWavelengths& w = lambdas[k < n ? k : 0];
       const SampledSpectrum v = sample_dense(I, w);
@@ -103,29 +115,29 @@ struct LaneSpectra {
 
 /// env_texel_radiance over the lanes in `m` at lat-long (u, v): the bilinear blend of the
 /// four texels' sigmoid spectra (env_bilinear, env_blend_lanes), times the illuminant.
-inline void env_radiance(const Light& l, F32x8 u, F32x8 v, I32x8 m, const LaneSpectra& spectra,
-                         F32x8 Le[kSpectrumSamples]) {
+inline void env_radiance(const Light& l, LF u, LF v, LI m, const LaneSpectra& spectra,
+                         LF Le[kSpectrumSamples]) {
   // env_bilinear: the four texels and their weights.
-  const F32x8 fx = u * Float(l.width) - Float(0.5), fy = v * Float(l.height) - Float(0.5);
-  const F32x8 x0f = _mm256_floor_ps(fx), y0f = _mm256_floor_ps(fy);
-  const F32x8 dx = fx - x0f, dy = fy - y0f;
-  const I32x8 x0 = __builtin_convertvector(x0f, I32x8), y0 = __builtin_convertvector(y0f, I32x8);
-  auto wrap_x = [&](I32x8 x) { return x < 0 ? x + l.width : (x >= l.width ? x - l.width : x); };
-  auto clamp_y = [&](I32x8 y) { return y < 0 ? I32x8{} : (y >= l.height ? I32x8{} + (l.height - 1) : y); };
-  const I32x8 xa = wrap_x(x0), xb = wrap_x(x0 + 1), ya = clamp_y(y0) * l.width, yb = clamp_y(y0 + 1) * l.width;
-  const I32x8 texel[4] = {ya + xa, ya + xb, yb + xa, yb + xb};
-  const F32x8 weight[4] = {(1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy};
+  const LF fx = u * Float(l.width) - Float(0.5), fy = v * Float(l.height) - Float(0.5);
+  const LF x0f = vfloor(fx), y0f = vfloor(fy);
+  const LF dx = fx - x0f, dy = fy - y0f;
+  const LI x0 = __builtin_convertvector(x0f, LI), y0 = __builtin_convertvector(y0f, LI);
+  auto wrap_x = [&](LI x) { return x < 0 ? x + l.width : (x >= l.width ? x - l.width : x); };
+  auto clamp_y = [&](LI y) { return y < 0 ? LI{} : (y >= l.height ? LI{} + (l.height - 1) : y); };
+  const LI xa = wrap_x(x0), xb = wrap_x(x0 + 1), ya = clamp_y(y0) * l.width, yb = clamp_y(y0 + 1) * l.width;
+  const LI texel[4] = {ya + xa, ya + xb, yb + xa, yb + xb};
+  const LF weight[4] = {(1 - dx) * (1 - dy), dx * (1 - dy), (1 - dx) * dy, dx * dy};
   // Σ_k w_k scale_k s_k(λ) (env_blend_lanes per lane), times the illuminant.
-  for (int i = 0; i < kSpectrumSamples; ++i) Le[i] = F32x8{};
+  for (int i = 0; i < kSpectrumSamples; ++i) Le[i] = LF{};
   for (int k = 0; k < 4; ++k) {
-    __m256 t[4];  // scale, c0, c1, c2 of each lane's texel k
-    lanes::load_rows4(&l.texels[0].scale, m ? texel[k] : I32x8{}, t);
-    const F32x8 sw = F32x8(t[0]) * weight[k];
+    LF t[4];  // scale, c0, c1, c2 of each lane's texel k
+    load_rows4(&l.texels[0].scale, m ? texel[k] : LI{}, t);
+    const LF sw = LF(t[0]) * weight[k];
     for (int i = 0; i < kSpectrumSamples; ++i) {
-      const F32x8 lam = spectra.lambda[i];
-      F32x8 x = (F32x8(t[1]) * lam + F32x8(t[2])) * lam + F32x8(t[3]);
+      const LF lam = spectra.lambda[i];
+      LF x = (LF(t[1]) * lam + LF(t[2])) * lam + LF(t[3]);
       x = vmin(vmax(x, splat(-0x1p60f)), splat(0x1p60f));
-      const F32x8 sig = Float(0.5) + x / (2 * vsqrt(x * x + 1));
+      const LF sig = Float(0.5) + x / (2 * vsqrt(x * x + 1));
       Le[i] += sig * sw;
     }
   }
@@ -139,61 +151,61 @@ inline void env_radiance(const Light& l, F32x8 u, F32x8 v, I32x8 m, const LaneSp
 /// (Paths::add).
 __attribute__((noinline)) inline void add_env_escaped(const SceneView& s, const Light& l, int li,
                                                       const LaneEnvTables& t, const V3& w, const LaneSpectra& spectra,
-                                                      I32x8 m, Paths& P) {
+                                                      LI m, Paths& P) {
   // env_direction: lat-long coordinates and sin θ of the local direction.
   const V3 d{dot(w, splat3(l.frame.x)), dot(w, splat3(l.frame.y)), dot(w, splat3(l.frame.z))};
-  F32x8 u = atan2_poly(d.x, -d.z) * kInv2Pi;
+  LF u = atan2_poly(d.x, -d.z) * kInv2Pi;
   u = u < 0 ? u + 1 : u;
-  const F32x8 v = acos_poly(d.y) * kInvPi;
-  const F32x8 sin_theta = vsqrt(d.x * d.x + d.z * d.z);
+  const LF v = acos_poly(d.y) * kInvPi;
+  const LF sin_theta = vsqrt(d.x * d.x + d.z * d.z);
   // env_pdf (Distribution2D::pdf: the cell's value over the integral, its indices clamped).
-  F32x8 pdf{};
+  LF pdf{};
   if (t.conditional_func) {
-    I32x8 iu = __builtin_convertvector(u * Float(t.nu), I32x8), iv = __builtin_convertvector(v * Float(t.nv), I32x8);
-    iu = iu < 0 ? I32x8{} : (iu >= t.nu ? I32x8{} + (t.nu - 1) : iu);
-    iv = iv < 0 ? I32x8{} : (iv >= t.nv ? I32x8{} + (t.nv - 1) : iv);
-    const F32x8 pdf_uv = gather(t.conditional_func, m ? iv * t.nu + iu : I32x8{}) / t.marginal_integral;
-    pdf = sin_theta == 0 ? F32x8{} : pdf_uv / (2 * kPi * kPi * (sin_theta == 0 ? splat(1) : sin_theta));
+    LI iu = __builtin_convertvector(u * Float(t.nu), LI), iv = __builtin_convertvector(v * Float(t.nv), LI);
+    iu = iu < 0 ? LI{} : (iu >= t.nu ? LI{} + (t.nu - 1) : iu);
+    iv = iv < 0 ? LI{} : (iv >= t.nv ? LI{} + (t.nv - 1) : iv);
+    const LF pdf_uv = gather(t.conditional_func, m ? iv * t.nu + iu : LI{}) / t.marginal_integral;
+    pdf = sin_theta == 0 ? LF{} : pdf_uv / (2 * kPi * kPi * (sin_theta == 0 ? splat(1) : sin_theta));
   }
-  F32x8 Le[kSpectrumSamples];
+  LF Le[kSpectrumSamples];
   env_radiance(l, u, v, m, spectra, Le);
   // The MIS weight against next-event estimation, and Paths::add (emission after one
   // bounce is direct).
-  const F32x8 w_mis = load(P.specular) ? splat(1) : power_heuristic(load(P.prev_pdf), s.light_distribution.discrete_pmf(li) * pdf);
-  const I32x8 direct = load(P.depth) <= 1;
+  const LF w_mis = load(P.specular) ? splat(1) : power_heuristic(load(P.prev_pdf), s.light_distribution.discrete_pmf(li) * pdf);
+  const LI direct = load(P.depth) <= 1;
   for (int i = 0; i < kSpectrumSamples; ++i) {
-    const F32x8 add = m ? load(P.beta.v[i]) * Le[i] * w_mis : F32x8{};
-    store(load(P.L_direct.v[i]) + (direct ? add : F32x8{}), P.L_direct.v[i]);
-    store(load(P.L.v[i]) + (direct ? F32x8{} : add), P.L.v[i]);
+    const LF add = m ? load(P.beta.v[i]) * Le[i] * w_mis : LF{};
+    store(load(P.L_direct.v[i]) + (direct ? add : LF{}), P.L_direct.v[i]);
+    store(load(P.L.v[i]) + (direct ? LF{} : add), P.L.v[i]);
   }
 }
 
 /// sample_env of environment image `l` (its LaneEnvTables `t`) over the lanes in `m`, for
 /// their 2D samples (ux, uy): Distribution2D::sample, latlong_to_direction and the radiance
 /// there. *pdf is 0 (and Le black) where the sample fails, as sample_env leaves it.
-inline void sample_env(const Light& l, const LaneEnvTables& t, F32x8 ux, F32x8 uy, I32x8 m, const LaneSpectra& spectra,
-                       V3* wi, F32x8* pdf, F32x8 Le[kSpectrumSamples]) {
-  *pdf = F32x8{};
+inline void sample_env(const Light& l, const LaneEnvTables& t, LF ux, LF uy, LI m, const LaneSpectra& spectra,
+                       V3* wi, LF* pdf, LF Le[kSpectrumSamples]) {
+  *pdf = LF{};
   *wi = V3{};
-  for (int i = 0; i < kSpectrumSamples; ++i) Le[i] = F32x8{};
+  for (int i = 0; i < kSpectrumSamples; ++i) Le[i] = LF{};
   if (!t.conditional_func) return;
-  F32x8 pdf_v, pdf_u;
-  I32x8 row, column;
-  const F32x8 y = sample_continuous(t.marginal_cdf, t.marginal_func, I32x8{}, I32x8{}, splat(t.marginal_integral), t.nv,
+  LF pdf_v, pdf_u;
+  LI row, column;
+  const LF y = sample_continuous(t.marginal_cdf, t.marginal_func, LI{}, LI{}, splat(t.marginal_integral), t.nv,
                                     uy, &pdf_v, &row);
-  const F32x8 x = sample_continuous(t.conditional_cdf, t.conditional_func, row * (t.nu + 1), row * t.nu,
+  const LF x = sample_continuous(t.conditional_cdf, t.conditional_func, row * (t.nu + 1), row * t.nu,
                                     gather(t.marginal_func, row), t.nu, ux, &pdf_u, &column);
-  const F32x8 pdf_uv = pdf_v * pdf_u;
-  F32x8 cos_phi, sin_phi, cos_theta, sin_theta;  // φ = 2π u, θ = π v
+  const LF pdf_uv = pdf_v * pdf_u;
+  LF cos_phi, sin_phi, cos_theta, sin_theta;  // φ = 2π u, θ = π v
   cos_sin_turns(x, &cos_phi, &sin_phi);
   cos_sin_turns(Float(0.5) * y, &cos_theta, &sin_theta);
-  const I32x8 ok = m & (pdf_uv != 0) & (sin_theta != 0);
+  const LI ok = m & (pdf_uv != 0) & (sin_theta != 0);
   if (!any(ok)) return;
   const V3 local{sin_theta * sin_phi, cos_theta, -sin_theta * cos_phi};
   *wi = splat3(l.frame.x) * local.x + splat3(l.frame.y) * local.y + splat3(l.frame.z) * local.z;
-  *pdf = ok ? pdf_uv / (2 * kPi * kPi * (ok ? sin_theta : splat(1))) : F32x8{};
+  *pdf = ok ? pdf_uv / (2 * kPi * kPi * (ok ? sin_theta : splat(1))) : LF{};
   env_radiance(l, x, y, ok, spectra, Le);
-  for (int i = 0; i < kSpectrumSamples; ++i) Le[i] = ok ? Le[i] : F32x8{};
+  for (int i = 0; i < kSpectrumSamples; ++i) Le[i] = ok ? Le[i] : LF{};
 }
 
 /// The next-event samples of the lanes marked in V.env (environment images, light
@@ -204,15 +216,15 @@ inline void sample_env(const Light& l, const LaneEnvTables& t, F32x8 ux, F32x8 u
 __attribute__((noinline)) inline void sample_env_lights(const SceneView& s, const LaneTriangles& tris,
                                                         const SampledWavelengths* lambda, int n, LaneSpectra& spectra,
                                                         Vertices& V) {
-  const I32x8 which = load(V.light_index);
-  const F32x8 ux = load(V.u_light[0]), uy = load(V.u_light[1]);
-  for (I32x8 todo = load(V.env); any(todo);) {  // one image at a time: the first left's
+  const LI which = load(V.light_index);
+  const LF ux = load(V.u_light[0]), uy = load(V.u_light[1]);
+  for (LI todo = load(V.env); any(todo);) {  // one image at a time: the first left's
     const int li = which[__builtin_ctz(unsigned(mask_bits(todo)))];
-    const I32x8 m = todo & (which == li);
+    const LI m = todo & (which == li);
     const Light& l = s.lights[li];
     if (!spectra.ready) spectra.prepare(lambda, n, l.illuminant);
     V3 wi;
-    F32x8 pdf, Le[kSpectrumSamples];
+    LF pdf, Le[kSpectrumSamples];
     sample_env(l, tris.env[li], ux, uy, m, spectra, &wi, &pdf, Le);
     V.light_wi.store(select(m, wi, V.light_wi.load()));
     store(m ? pdf : load(V.light_pdf), V.light_pdf);

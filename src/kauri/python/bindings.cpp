@@ -9,6 +9,7 @@
 #include <nanobind/stl/vector.h>
 
 #include "kauri/film/image_io.h"
+#include "kauri/integrator/path_lanes.h"
 #include "kauri/layer/layer_compiler.h"
 #include "kauri/render/renderer.h"
 #include "kauri/render/ray_replay.h"
@@ -222,6 +223,7 @@ KAURI_NB_MODULE(KAURI_MODULE_NAME, m) {
   build["compiler"] = KAURI_BUILD_COMPILER;
   build["march"] = KAURI_BUILD_MARCH;
   build["pgo"] = KAURI_BUILD_PGO;
+  build["path_lanes"] = KAURI_PATH_LANES ? kPathLanes : 0;  // paths a group traces in vector lanes
   m.attr("build_info") = build;
 
   nb::class_<Scene>(m, "Scene")

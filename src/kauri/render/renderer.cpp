@@ -363,40 +363,55 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   // Data AOV sums: allocated only when the render gathers them (cfg.aovs).
   PixelAOVAccum* aov = c.cfg.aovs ? c.aovs + (size_t(y) * size_t(c.film.width) + size_t(x)) : nullptr;
   // The pixel's samples go in groups of a packet, in three stages: their camera rays (in
-  // vector lanes, sample_lanes.h), traced together; each path from its first hit; their
-  // colours (in lanes) into the film, splatted together (splat_lanes.h). Every sample keeps its own sampler,
+  // vector lanes, sample_lanes.h); the paths from their first hits, traced together
+  // kPathLanes at a time (two groups with AVX-512's 16 lanes); their colours (in lanes)
+  // into the film, splatted together (splat_lanes.h). Every sample keeps its own sampler,
   // so each path draws the dimensions it would draw alone and the image is as with one
   // sample at a time.
   constexpr int kGroup = EmbreeAccel::kPacketSize;
-  static_assert(kGroup <= kSampleLanes && kGroup <= kSplatLanes, "a group's samples fill at most one vector");
-  Sampler samplers[kGroup];
-  samplers[0].type = c.cfg.sampler;
-  samplers[0].set_samples_per_pixel(uint32_t(c.cfg.spp));
-  Ray camera_rays[kGroup];
-  Vec2 film_pos[kGroup];
-  SampledWavelengths lambdas[kGroup]{};  // every lane initialised: the vector stages read all
-  HitRecord primary[kGroup];
-  bool primary_found[kGroup];
-  PathOutput outs[kGroup];
+  static_assert(kGroup == kSampleLanes && kGroup <= kSplatLanes, "a group's samples fill one vector");
+  constexpr int kTrace = kPathLanes > kGroup ? kPathLanes : kGroup;  // samples traced together
+  static_assert(kTrace % kGroup == 0, "whole groups traced together");
+  Sampler samplers[kTrace];
+  Ray camera_rays[kTrace];
+  Vec2 film_pos[kTrace];
+  SampledWavelengths lambdas[kTrace]{};  // every lane initialised: the vector stages read all
+  HitRecord primary[kTrace];
+  bool primary_found[kTrace];
+  PathOutput outs[kTrace];
   Vec3 rgb[kGroup];
   float beauty[kGroup][4];
   const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
   const bool light_aa = light_aa_pixel(c, accel, x, y, rays);
-  for (uint32_t g0 = s0; g0 < s1; g0 += kGroup) {
-    const int n = int(std::min<uint32_t>(kGroup, s1 - g0));
-    camera_group(c, x, y, g0, n, c.cfg.seed, samplers, camera_rays, film_pos, lambdas);
-    intersect_camera_rays(accel, camera_rays, n, primary, primary_found);
-    trace_group(c, accel, camera_rays, lambdas, samplers, outs, primary, primary_found, n);
-    for (int k = 0; k < n; ++k) {
-      *rays += outs[k].rays;
-      if (light_aa) outs[k].rgb_exact = Vec3{0, 0, 0};  // the extra rays below estimate it
+  for (int g = 0; g < kTrace; g += kGroup) {  // each group's first sampler carries the sequence
+    samplers[g].type = c.cfg.sampler;
+    samplers[g].set_samples_per_pixel(uint32_t(c.cfg.spp));
+  }
+  for (uint32_t t0 = s0; t0 < s1; t0 += kTrace) {
+    const int m = int(std::min<uint32_t>(kTrace, s1 - t0));
+    for (int g = 0; g < m; g += kGroup) {
+      const int n = std::min(kGroup, m - g);
+      camera_group(c, x, y, t0 + uint32_t(g), n, c.cfg.seed, samplers + g, camera_rays + g, film_pos + g,
+                   lambdas + g);
+      intersect_camera_rays(accel, camera_rays + g, n, primary + g, primary_found + g);
     }
-    if (light_aa) light_aa_rays(c, accel, x, y, g0, n, rays);
-    sample_rgb_lanes(sv, c.cfg.integrator.clamp, outs, lambdas, n, rgb);
-    for (int k = 0; k < n; ++k) finish_sample(c, x, y, g0 + uint32_t(k), rgb[k], outs[k], lambdas[k], aov, beauty[k]);
-    if (!(splat && splat_group(c.film, c.cfg.filter, x, y, film_pos, beauty, n)))
+    trace_group(c, accel, camera_rays, lambdas, samplers, outs, primary, primary_found, m);
+    for (int g = 0; g < m; g += kGroup) {
+      const int n = std::min(kGroup, m - g);
+      const uint32_t g0 = t0 + uint32_t(g);
+      PathOutput* o = outs + g;
+      for (int k = 0; k < n; ++k) {
+        *rays += o[k].rays;
+        if (light_aa) o[k].rgb_exact = Vec3{0, 0, 0};  // the extra rays below estimate it
+      }
+      if (light_aa) light_aa_rays(c, accel, x, y, g0, n, rays);
+      sample_rgb_lanes(sv, c.cfg.integrator.clamp, o, lambdas + g, n, rgb);
       for (int k = 0; k < n; ++k)
-        add_beauty(c, px, film_pos[k], Vec3{beauty[k][0], beauty[k][1], beauty[k][2]}, beauty[k][3]);
+        finish_sample(c, x, y, g0 + uint32_t(k), rgb[k], o[k], lambdas[g + k], aov, beauty[k]);
+      if (!(splat && splat_group(c.film, c.cfg.filter, x, y, film_pos + g, beauty, n)))
+        for (int k = 0; k < n; ++k)
+          add_beauty(c, px, film_pos[g + k], Vec3{beauty[k][0], beauty[k][1], beauty[k][2]}, beauty[k][3]);
+    }
   }
 }
 
