@@ -377,6 +377,7 @@ def versions():
         v["kauri"] = (f"{kauri.__version__} ({b['compiler']}, -march={b['march']}, pgo={b['pgo']}, "
                       f"path lanes={b['path_lanes']})")
         v["kauri_march"] = b["march"]
+        v["kauri_path_lanes"] = b["path_lanes"]
     except Exception as e:  # noqa: BLE001 - reported, not fatal here
         v["kauri"] = f"import failed: {e}"
     try:
@@ -1385,8 +1386,8 @@ def section_memory(cfg, names, renderers, threads, log):
 # Report
 
 def path_lanes_scenes(names):
-    """The scenes kauri renders with its path lanes (a pixel's paths 8 at a time in vector
-    lanes: every surface of the scene of their kind), from a tiny render of each in a
+    """The scenes kauri renders with its path lanes (a pixel's paths 8 or 16 at a time in
+    vector lanes: every surface of the scene of their kind), from a tiny render of each in a
     process of its own (this one does not load kauri)."""
     code = ("import sys; sys.path.insert(0, %r); import kauri, peers, importlib\n"
             "for n in sys.argv[1:]:\n"
@@ -1447,7 +1448,8 @@ def build_report(info, mode, argv, sections_md, thread_check, elapsed, done, loa
           f"- CPU: {info['cpu']}, {info['cores']} cores, widest vectors {info.get('vector_isa', '–')}; "
           f"memory {info['memory_gib']} GiB; {info['os']}",
           f"- Dr.Jit's LLVM kernels: {drjit_lanes_md(info.get('drjit_llvm'))}; kauri: "
-          f"`-march={v.get('kauri_march', '–')}`; path lanes (a pixel's paths 8 at a time in AVX2 lanes) on "
+          f"`-march={v.get('kauri_march', '–')}`; path lanes (a pixel's paths "
+          f"{v.get('kauri_path_lanes', '–')} at a time in vector lanes) on "
           f"{', '.join(info.get('path_lanes') or []) or 'no scene'}, one path per thread at a time on the others",
           f"- Threads for every renderer: {info['threads']} (kauri: `render(threads=N)`; Mitsuba: "
           f"`drjit.set_thread_count(N)`, after which `drjit.thread_count()` = {info.get('drjit_thread_count', '–')}; "

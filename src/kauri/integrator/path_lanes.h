@@ -171,19 +171,14 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
 #if KAURI_PATH_LANES
 namespace path_lanes_detail {
 constexpr int W = kPathLanes;
-#if KAURI_LANES_AVX512
-using LF = lanes::F32x16;
-using LI = lanes::I32x16;
-using LU = lanes::U32x16;
-using RTCRayHitW = RTCRayHit16;
-using RTCRayW = RTCRay16;
-#else
-using LF = lanes::F32x8;
-using LI = lanes::I32x8;
-using LU = lanes::U32x8;
-using RTCRayHitW = RTCRayHit8;
-using RTCRayW = RTCRay8;
-#endif
+/// The lane vectors and Embree's packets of this width.
+template <class Narrow, class Wide>
+using ByWidth = std::conditional_t<W == 16, Wide, Narrow>;
+using LF = ByWidth<lanes::F32x8, lanes::F32x16>;
+using LI = ByWidth<lanes::I32x8, lanes::I32x16>;
+using LU = ByWidth<lanes::U32x8, lanes::U32x16>;
+using RTCRayHitW = ByWidth<RTCRayHit8, RTCRayHit16>;
+using RTCRayW = ByWidth<RTCRay8, RTCRay16>;
 /// Bytes of a lane vector: the alignment of the lanes' columns.
 constexpr int kLaneBytes = int(sizeof(LF));
 
