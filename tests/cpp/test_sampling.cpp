@@ -789,6 +789,33 @@ TEST(Sobol, BatchMatchesOwenSobol2dBitForBit) {
   }
 }
 
+// A sampler reading its pair seeds from a SobolSeedCache must draw what one hashing its
+// own draws, bit for bit: past the table's pairs, after the pixel seed changes (the cache
+// refills), with the cache shared by samplers of different seeds in turn.
+TEST(Sobol, SeedCacheLeavesEverySampleAsItWas) {
+  SobolSeedCache cache;
+  for (SamplerType type : {SamplerType::Sobol, SamplerType::ZSobol})
+    for (int px = 0; px < 6; ++px) {
+      Sampler plain, cached;
+      plain.type = cached.type = type;
+      plain.set_samples_per_pixel(64);
+      cached.set_samples_per_pixel(64);
+      cached.seeds = &cache;
+      for (uint32_t i = 0; i < 70; i += 3) {  // 64 … 69: ZSobol's per-pixel fallback seed
+        plain.start_pixel_sample(px, 2 * px + 1, i, 99);
+        cached.start_pixel_sample(px, 2 * px + 1, i, 99);
+        for (uint32_t d = 0; d < 2 * (SobolSeedCache::kBatches + 2) * kSobolBatch; ++d) {
+          const Vec2 a = plain.get_2d(), b = cached.get_2d();
+          ASSERT_EQ(float_as_bits(a.x), float_as_bits(b.x)) << int(type) << " px " << px << " i " << i << " d " << d;
+          ASSERT_EQ(float_as_bits(a.y), float_as_bits(b.y)) << int(type) << " px " << px << " i " << i << " d " << d;
+        }
+      }
+    }
+  // The cache is used: its seed is the last pixel's, some batches filled, none past it.
+  EXPECT_NE(cache.filled, 0u);
+  EXPECT_EQ(cache.filled >> SobolSeedCache::kBatches, 0u);
+}
+
 // get_2d_n (the path lanes' three pairs a bounce) must be n calls of get_2d: the same
 // values and the same state after, from odd and even dimensions, within a batch and
 // across a batch's end, for every sampler type, including right after a sample starts

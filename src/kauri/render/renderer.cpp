@@ -383,9 +383,11 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   float beauty[kGroup][4];
   const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
   const bool light_aa = light_aa_pixel(c, accel, x, y, rays);
+  SobolSeedCache seeds;  // the pixel's pair seeds, hashed once for all its samples
   for (int g = 0; g < kTrace; g += kGroup) {  // each group's first sampler carries the sequence
     samplers[g].type = c.cfg.sampler;
     samplers[g].set_samples_per_pixel(uint32_t(c.cfg.spp));
+    samplers[g].seeds = &seeds;
   }
   for (uint32_t t0 = s0; t0 < s1; t0 += kTrace) {
     const int m = int(std::min<uint32_t>(kTrace, s1 - t0));

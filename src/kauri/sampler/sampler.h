@@ -28,6 +28,9 @@ struct Sampler {
   // y (owen_sobol_batch); batch_first = ~0u when none is computed.
   uint32_t batch_first = ~0u;
   Float batch[2 * kSobolBatch];
+  /// Optional: the pair seeds of this sampler's pixel seed, shared by the samplers of a
+  /// pixel's group (SobolSeedCache); null: each batch hashes its own.
+  SobolSeedCache* seeds = nullptr;
   PCG32 rng;
 
   /// Samples per pixel the render takes (ZSobol sizes each pixel's block by it).
@@ -106,7 +109,10 @@ struct Sampler {
   KAURI_HOST_DEVICE Vec2 pair(uint32_t k) {
     const uint32_t first = k & ~(kSobolBatch - 1);
     if (first != batch_first) {
-      owen_sobol_batch(reversed_index, first, pixel_seed, batch);
+      if (seeds && SobolSeedCache::covers(first))
+        owen_sobol_batch(reversed_index, seeds->seeds(first, pixel_seed), batch);
+      else
+        owen_sobol_batch(reversed_index, first, pixel_seed, batch);
       batch_first = first;
     }
     return {batch[k - first], batch[kSobolBatch + k - first]};

@@ -39,8 +39,11 @@ KAURI_HOST_DEVICE inline bool start_pixel_samples_lanes(Sampler* s, int n, int p
   const U32x8 index = U32x8{0, 1, 2, 3, 4, 5, 6, 7} + s[0].index;
   const U32x8 reversed = reverse_words(index);
   F32x8 coord[2 * kSobolBatch];  // x of pairs 0 … 7, then their y
-  // The 8 pairs' scramble seeds, pair p in lane p: three vector hashes for 24 scalar ones.
-  const BasicSobolPairSeeds<U32x8> seeds(U32x8{0, 1, 2, 3, 4, 5, 6, 7}, U32x8{} + pixel_seed);
+  // The 8 pairs' scramble seeds: three vector hashes for 24 scalar ones, or the pixel's
+  // table's (Sampler::seeds).
+  SobolSeedBatch own;
+  if (!s[0].seeds) sobol_seed_batch(0, pixel_seed, &own);
+  const SobolSeedBatch& seeds = s[0].seeds ? s[0].seeds->seeds(0, pixel_seed) : own;
   for (uint32_t p = 0; p < kSobolBatch; ++p) {
     const U32x8 c = reverse_words(laine_karras_words(reversed, U32x8{} + seeds.shuffle[p]));
     const U32x8 x = reverse_words(laine_karras_words(c, U32x8{} + seeds.x[p])) >> 8;

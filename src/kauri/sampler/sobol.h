@@ -238,33 +238,95 @@ KAURI_HOST_DEVICE inline Float owen_sobol_sample(uint32_t index, uint32_t dimens
 /// batch boundary's branch was one of the path loop's most mispredicted.
 inline constexpr uint32_t kSobolBatch = 8;
 
-/// Pairs first … first + 7 of one sample: out[i] = x and out[8 + i] = y of pair first + i,
-/// bit for bit owen_sobol_2d. On the CPU the eight pairs run in the lanes of GCC/Clang
-/// vector types (AVX2 with x86-64-v3): the same word operations as the scalar path
-/// (laine_karras_permutation, superset_xor, hash_u32, reverse_bits32).
-KAURI_HOST_DEVICE inline void owen_sobol_batch(uint32_t reversed_index, uint32_t first, uint32_t pixel_seed,
-                                               Float out[2 * kSobolBatch]) {
+/// The scramble seeds (BasicSobolPairSeeds) of dimension pairs first … first + 7.
+struct SobolSeedBatch {
+  uint32_t shuffle[kSobolBatch], x[kSobolBatch], y[kSobolBatch];
+};
+
+/// Seeds of pairs first … first + 7 (first a multiple of kSobolBatch) of `pixel_seed`.
+KAURI_HOST_DEVICE inline void sobol_seed_batch(uint32_t first, uint32_t pixel_seed, SobolSeedBatch* b) {
 #if KAURI_SOBOL_VECTORS
   using namespace sobol_detail;
   static_assert(kSobolBatch == 8, "one U32x8 of pairs");
-  const U32x8 k = U32x8{0, 1, 2, 3, 4, 5, 6, 7} + first;
-  const U32x8 seed = U32x8{} + pixel_seed;
-  const U32x8 c = reverse_words(laine_karras_words(U32x8{} + reversed_index, hash_words(seed ^ (k * 0x9e3779b9u))));
-  // SobolPairSeeds' x and y seeds; v >> 8 < 2^24: exact as a signed integer and as a
-  // float, as in u32_to_unit.
-  const U32x8 x = reverse_words(laine_karras_words(c, hash_words(seed ^ (k * 0x85ebca6bu + 1u)))) >> 8;
-  const U32x8 y = reverse_words(laine_karras_words(superset_xor(c), hash_words(seed ^ (k * 0xc2b2ae35u + 2u)))) >> 8;
+  const BasicSobolPairSeeds<U32x8> s(U32x8{0, 1, 2, 3, 4, 5, 6, 7} + first, U32x8{} + pixel_seed);
+  __builtin_memcpy(b->shuffle, &s.shuffle, sizeof s.shuffle);
+  __builtin_memcpy(b->x, &s.x, sizeof s.x);
+  __builtin_memcpy(b->y, &s.y, sizeof s.y);
+#else
+  for (uint32_t i = 0; i < kSobolBatch; ++i) {
+    const SobolPairSeeds s(first + i, pixel_seed);
+    b->shuffle[i] = s.shuffle, b->x[i] = s.x, b->y[i] = s.y;
+  }
+#endif
+}
+
+/// The seeds of one pixel seed's first kBatches batches, hashed once for all the samples
+/// that share the seed (a pixel's samples; with ZSobol a whole super-tile's) instead of
+/// once per sample and batch: the three seed hashes are ~40% of a batch's word operations
+/// (owen_sobol_batch), and a path's later bounces compute a batch per sample. Filled
+/// lazily, batch by batch; a new pixel seed empties it. Plain data, one per render thread
+/// or pixel (the samplers of a pixel's group point to it, Sampler::seeds).
+struct SobolSeedCache {
+  static constexpr uint32_t kBatches = 8;  // pairs 0 … 63: the camera's and 20 bounces'
+  uint32_t pixel_seed = 0;
+  uint32_t filled = 0;  // bit b: batch b holds pixel_seed's seeds
+  SobolSeedBatch batch[kBatches];
+
+  /// Whether pairs first … first + 7 are in the table's range.
+  KAURI_HOST_DEVICE static bool covers(uint32_t first) { return first < kBatches * kSobolBatch; }
+  /// The seeds of pairs first … first + 7 of `seed` (covers(first), first a multiple of
+  /// kSobolBatch).
+  KAURI_HOST_DEVICE const SobolSeedBatch& seeds(uint32_t first, uint32_t seed) {
+    if (seed != pixel_seed) {
+      pixel_seed = seed;
+      filled = 0;
+    }
+    const uint32_t b = first / kSobolBatch;
+    if (!(filled >> b & 1u)) {
+      sobol_seed_batch(first, seed, &batch[b]);
+      filled |= 1u << b;
+    }
+    return batch[b];
+  }
+};
+
+/// Pairs first … first + 7 of one sample from their seeds: out[i] = x and out[8 + i] = y
+/// of pair first + i, bit for bit owen_sobol_2d. On the CPU the eight pairs run in the
+/// lanes of GCC/Clang vector types (AVX2 with x86-64-v3): the same word operations as the
+/// scalar path (laine_karras_permutation, superset_xor, reverse_bits32).
+KAURI_HOST_DEVICE inline void owen_sobol_batch(uint32_t reversed_index, const SobolSeedBatch& seeds,
+                                               Float out[2 * kSobolBatch]) {
+#if KAURI_SOBOL_VECTORS
+  using namespace sobol_detail;
+  U32x8 shuffle, sx, sy;
+  __builtin_memcpy(&shuffle, seeds.shuffle, sizeof shuffle);
+  __builtin_memcpy(&sx, seeds.x, sizeof sx);
+  __builtin_memcpy(&sy, seeds.y, sizeof sy);
+  const U32x8 c = reverse_words(laine_karras_words(U32x8{} + reversed_index, shuffle));
+  // v >> 8 < 2^24: exact as a signed integer and as a float, as in u32_to_unit.
+  const U32x8 x = reverse_words(laine_karras_words(c, sx)) >> 8;
+  const U32x8 y = reverse_words(laine_karras_words(superset_xor(c), sy)) >> 8;
   const F32x8 fx = __builtin_convertvector(reinterpret_cast<const I32x8&>(x), F32x8) * 0x1p-24f;
   const F32x8 fy = __builtin_convertvector(reinterpret_cast<const I32x8&>(y), F32x8) * 0x1p-24f;
   __builtin_memcpy(out, &fx, sizeof fx);
   __builtin_memcpy(out + kSobolBatch, &fy, sizeof fy);
 #else
   for (uint32_t i = 0; i < kSobolBatch; ++i) {
-    const Vec2 p = owen_sobol_2d_reversed(reversed_index, SobolPairSeeds(first + i, pixel_seed));
+    SobolPairSeeds s;
+    s.shuffle = seeds.shuffle[i], s.x = seeds.x[i], s.y = seeds.y[i];
+    const Vec2 p = owen_sobol_2d_reversed(reversed_index, s);
     out[i] = p.x;
     out[kSobolBatch + i] = p.y;
   }
 #endif
+}
+
+/// Pairs first … first + 7 of one sample, their seeds hashed here.
+KAURI_HOST_DEVICE inline void owen_sobol_batch(uint32_t reversed_index, uint32_t first, uint32_t pixel_seed,
+                                               Float out[2 * kSobolBatch]) {
+  SobolSeedBatch seeds;
+  sobol_seed_batch(first, pixel_seed, &seeds);
+  owen_sobol_batch(reversed_index, seeds, out);
 }
 
 }  // namespace kauri
