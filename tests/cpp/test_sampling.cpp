@@ -477,6 +477,12 @@ TEST(Distribution, Discrete1D) {
   double sum = 0;
   for (Float v : f) sum += double(v);
   for (int i = 0; i < n; ++i) EXPECT_NEAR(double(d.discrete_pmf(i)), double(f[size_t(i)]) / sum, 1e-6);
+  // The stored table (built with the storage) holds what the view without it computes,
+  // bit for bit: the light choice's pmf and the emitter MIS weight read the same value.
+  ASSERT_NE(d.pmf, nullptr);
+  Distribution1D bare = d;
+  bare.pmf = nullptr;
+  for (int i = 0; i < n; ++i) EXPECT_EQ(float_as_bits(d.discrete_pmf(i)), float_as_bits(bare.discrete_pmf(i))) << i;
   // The bin (as a cell) and the remapped u within it: x = (i + u')/n must have the
   // continuous density, i.e. the bin is chosen with probability pmf and u' is uniform.
   int pmf_mismatch = 0;

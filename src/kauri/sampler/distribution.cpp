@@ -30,6 +30,8 @@ Distribution1DStorage::Distribution1DStorage(std::vector<Float> func) : func_(st
   if (func_.empty()) throw std::invalid_argument("Distribution1D: empty function");
   cdf_.assign(func_.size() + 1, 0);
   integral_ = build_cdf(func_.data(), func_.size(), cdf_.data());
+  pmf_.resize(func_.size());
+  for (size_t i = 0; i < func_.size(); ++i) pmf_[i] = Distribution1D::pmf_of(func_[i], integral_, int(func_.size()));
 }
 
 Distribution2DStorage::Distribution2DStorage(const std::vector<Float>& func, int nu, int nv)

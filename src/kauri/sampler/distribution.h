@@ -12,13 +12,13 @@ class Distribution1DStorage {
   Distribution1DStorage() = default;
   explicit Distribution1DStorage(std::vector<Float> func);
   Distribution1D view() const {
-    return {func_.data(), cdf_.data(), int(func_.size()), integral_};
+    return {func_.data(), cdf_.data(), int(func_.size()), integral_, pmf_.data()};
   }
   Float integral() const { return integral_; }
-  size_t bytes() const { return (func_.size() + cdf_.size()) * sizeof(Float); }
+  size_t bytes() const { return (func_.size() + cdf_.size() + pmf_.size()) * sizeof(Float); }
 
  private:
-  std::vector<Float> func_, cdf_;
+  std::vector<Float> func_, cdf_, pmf_;
   Float integral_ = 0;
 };
 

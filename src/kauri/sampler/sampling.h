@@ -149,6 +149,10 @@ struct Distribution1D {
   const Float* cdf = nullptr;   // n + 1 values
   int n = 0;
   Float integral = 0;           // ∫ func over [0,1)
+  // discrete_pmf(i) of every bin, computed when the distribution is built (the light
+  // choice reads one per next-event sample and per emitter hit: a division saved each);
+  // null: computed at each call (the conditional rows of a Distribution2D).
+  const Float* pmf = nullptr;
 
   /// Continuous sample in [0,1); returns its pdf and the bin.
   KAURI_HOST_DEVICE Float sample_continuous(Float u, Float* pdf, int* bin) const {
@@ -176,7 +180,12 @@ struct Distribution1D {
     return i;
   }
   KAURI_HOST_DEVICE Float discrete_pmf(int i) const {
-    return integral > 0 ? func[i] / (integral * Float(n)) : 0;
+    if (pmf) return pmf[i];
+    return pmf_of(func[i], integral, n);
+  }
+  /// The probability of a bin of value f: f·(1/n)/integral.
+  KAURI_HOST_DEVICE static Float pmf_of(Float f, Float integral, int n) {
+    return integral > 0 ? f / (integral * Float(n)) : 0;
   }
   KAURI_HOST_DEVICE Float pdf(Float x) const {
     int i = int(x * Float(n));
