@@ -514,6 +514,10 @@ TEST(Distribution, Discrete1D) {
   EXPECT_GE(i, 0);
   EXPECT_LT(i, 5);
   EXPECT_EQ(pmf, 0);
+  // An empty distribution (a scene without finite lights: no arrays) answers 0 without
+  // reading them, with or without its storage.
+  EXPECT_EQ(Distribution1D{}.discrete_pmf(0), 0);
+  EXPECT_EQ(Distribution1DStorage().view().discrete_pmf(3), 0);
 }
 
 TEST(Distribution, Continuous2D) {

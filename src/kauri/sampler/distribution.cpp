@@ -30,8 +30,10 @@ Distribution1DStorage::Distribution1DStorage(std::vector<Float> func) : func_(st
   if (func_.empty()) throw std::invalid_argument("Distribution1D: empty function");
   cdf_.assign(func_.size() + 1, 0);
   integral_ = build_cdf(func_.data(), func_.size(), cdf_.data());
+  // The stored probabilities are what the view without them computes, bit for bit.
+  const Distribution1D computed{func_.data(), cdf_.data(), int(func_.size()), integral_};
   pmf_.resize(func_.size());
-  for (size_t i = 0; i < func_.size(); ++i) pmf_[i] = Distribution1D::pmf_of(func_[i], integral_, int(func_.size()));
+  for (size_t i = 0; i < func_.size(); ++i) pmf_[i] = computed.discrete_pmf(int(i));
 }
 
 Distribution2DStorage::Distribution2DStorage(const std::vector<Float>& func, int nu, int nv)

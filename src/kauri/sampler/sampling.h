@@ -181,11 +181,9 @@ struct Distribution1D {
   }
   KAURI_HOST_DEVICE Float discrete_pmf(int i) const {
     if (pmf) return pmf[i];
-    return pmf_of(func[i], integral, n);
-  }
-  /// The probability of a bin of value f: f·(1/n)/integral.
-  KAURI_HOST_DEVICE static Float pmf_of(Float f, Float integral, int n) {
-    return integral > 0 ? f / (integral * Float(n)) : 0;
+    // func[i] is read only where the integral is positive: an empty distribution (no
+    // finite lights: its arrays are null) answers 0 for any light.
+    return integral > 0 ? func[i] / (integral * Float(n)) : 0;
   }
   KAURI_HOST_DEVICE Float pdf(Float x) const {
     int i = int(x * Float(n));
