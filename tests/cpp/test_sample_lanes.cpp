@@ -50,6 +50,9 @@ Ray scalar_camera_sample(const Camera& cam, const WavelengthDistribution& wl, bo
 }
 
 TEST(SampleLanes, StartedSamplersDrawTheScalarDimensions) {
+  // Without and with a SobolSeedCache shared by the group (render_pixel_samples' samplers).
+  SobolSeedCache cache;
+  for (SobolSeedCache* seeds : {static_cast<SobolSeedCache*>(nullptr), &cache})
   for (SamplerType type : {SamplerType::Sobol, SamplerType::ZSobol}) {
     for (uint32_t spp : {1u, 5u, 8u, 16u, 100u}) {
       for (int px : {0, 3, 77}) {
@@ -59,6 +62,7 @@ TEST(SampleLanes, StartedSamplersDrawTheScalarDimensions) {
           const int n = int(std::min<uint32_t>(8, spp + 24 - g0));
           Sampler lanes[8];
           lanes[0] = fresh_sampler(type, spp);
+          lanes[0].seeds = seeds;
           const uint32_t block = 1u << ceil_log2(spp);
           const bool straddles = type == SamplerType::ZSobol && g0 < block && g0 + uint32_t(n) > block;
           const bool started = start_pixel_samples_lanes(lanes, n, px, py, g0, 0x1234567890abULL);

@@ -264,8 +264,8 @@ KAURI_HOST_DEVICE inline void sobol_seed_batch(uint32_t first, uint32_t pixel_se
 /// that share the seed (a pixel's samples; with ZSobol a whole super-tile's) instead of
 /// once per sample and batch: the three seed hashes are ~40% of a batch's word operations
 /// (owen_sobol_batch), and a path's later bounces compute a batch per sample. Filled
-/// lazily, batch by batch; a new pixel seed empties it. Plain data, one per render thread
-/// or pixel (the samplers of a pixel's group point to it, Sampler::seeds).
+/// lazily, batch by batch; a new pixel seed empties it. Plain data on the stack of
+/// render_pixel_samples, whose samplers point to it (Sampler::seeds).
 struct SobolSeedCache {
   static constexpr uint32_t kBatches = 8;  // pairs 0 … 63: the camera's and 20 bounces'
   uint32_t pixel_seed = 0;
