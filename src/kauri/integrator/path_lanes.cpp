@@ -67,8 +67,32 @@ LaneTriangles LaneTrianglesStore::view() const {
   t.env = env.data();
   t.lane_material = lane_material.data();
   t.dielectric_ms = dielectric_ms.empty() ? nullptr : dielectric_ms.data();
+  t.common_emission_light = common_emission_light;
   t.any_quads = any_quads;
   return t;
+}
+
+/// The triangle light whose emission id the most triangle lights share, if at least half of
+/// them share it and that emission is an RGB illuminant spectrum (a sigmoid times the
+/// working space's illuminant, what every RGB light colour becomes); else −1. Ties: the
+/// lowest id. Why half: where the colours are many, most paths would replace the prefilled
+/// one (the hangar's three colours: +0.7% instructions with it, callgrind).
+static int common_emission_light(const SceneView& s) {
+  std::vector<int> count, first;
+  int triangle_lights = 0;
+  for (int i = 0; i < s.n_lights; ++i) {
+    const Light& l = s.lights[i];
+    if (l.type != LightType::Triangle) continue;
+    ++triangle_lights;
+    if (l.emission_id < 0 || l.Le.type != SpectrumType::RGBIlluminant) continue;
+    const size_t id = size_t(l.emission_id);
+    if (id >= count.size()) count.resize(id + 1, 0), first.resize(id + 1, -1);
+    if (count[id]++ == 0) first[id] = i;
+  }
+  int best = -1;
+  for (size_t id = 0; id < count.size(); ++id)
+    if (count[id] > 0 && (best < 0 || count[id] > count[size_t(best)])) best = int(id);
+  return best < 0 || 2 * count[size_t(best)] < triangle_lights ? -1 : first[size_t(best)];
 }
 
 LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<uint8_t>& root_quads) {
@@ -120,6 +144,7 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
     r.inv_area = 1 / l.area;
     r.two_sided = l.two_sided ? -1 : 0;
   }
+  t.common_emission_light = common_emission_light(s);
   // Environment images: next-event estimation's density, read flat (Distribution2D's rows
   // lie one after another).
   t.env.assign(size_t(std::max(s.n_lights, 1)), LaneEnvTables{});
