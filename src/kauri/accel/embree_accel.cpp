@@ -240,9 +240,10 @@ void EmbreeAccel::occluded_one_packet(const Ray* rays, int m, bool* blocked) con
   for (int k = 0; k < m; ++k) blocked[k] = by_direct[k] || ray.tfar[k] < 0;
 }
 
-void EmbreeAccel::intersect_lanes(const int* valid, RTCRayHit8* rh) const {
+void EmbreeAccel::intersect_lanes(const int* valid, RTCRayHit8* rh, bool coherent) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
+  if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   rtcIntersect8(valid, root_, &ctx, rh);
 }
 
@@ -252,9 +253,10 @@ void EmbreeAccel::occluded_lanes(const int* valid, RTCRay8* ray) const {
   rtcOccluded8(valid, root_, &ctx, ray);
 }
 
-void EmbreeAccel::intersect_lanes(const int* valid, RTCRayHit16* rh) const {
+void EmbreeAccel::intersect_lanes(const int* valid, RTCRayHit16* rh, bool coherent) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
+  if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   rtcIntersect16(valid, root_, &ctx, rh);
 }
 

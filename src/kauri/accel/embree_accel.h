@@ -115,10 +115,10 @@ class EmbreeAccel {
   /// rtcIntersect8/16 / rtcOccluded8/16 on a packet the caller has filled in Embree's
   /// layout (structures of arrays, as the path lanes keep their rays), lanes where
   /// valid[k] = −1. Embree's geometry alone: the caller tests the direct shapes
-  /// (nearest_direct_shape).
-  void intersect_lanes(const int* valid, RTCRayHit8* rh) const;
+  /// (nearest_direct_shape). `coherent`: Embree's coherent context (camera rays).
+  void intersect_lanes(const int* valid, RTCRayHit8* rh, bool coherent = false) const;
   void occluded_lanes(const int* valid, RTCRay8* ray) const;
-  void intersect_lanes(const int* valid, RTCRayHit16* rh) const;
+  void intersect_lanes(const int* valid, RTCRayHit16* rh, bool coherent = false) const;
   void occluded_lanes(const int* valid, RTCRay16* ray) const;
   bool occluded(const Ray& r) const {
     if (blocked_by_direct(r)) return true;

@@ -336,7 +336,8 @@ void light_aa_rays(const TileContext& c, const Accel& accel, int x, int y, uint3
 }
 
 /// The paths of a group of n camera samples: in vector lanes where the render allows it
-/// (TileContext::lane_triangles, Embree's packets at hand), else one by one.
+/// (TileContext::lane_triangles, Embree's packets at hand), which find the camera rays'
+/// hits themselves, else one by one from `primary` (null where the lanes trace).
 template <class Accel>
 void trace_group(const TileContext& c, const Accel& accel, const Ray* camera_rays, SampledWavelengths* lambdas,
                  Sampler* samplers, PathOutput* outs, const HitRecord* primary, const bool* primary_found, int n) {
@@ -345,7 +346,7 @@ void trace_group(const TileContext& c, const Accel& accel, const Ray* camera_ray
   if constexpr (std::is_same_v<Accel, EmbreeAccel>) {
     if (c.lane_triangles) {
       trace_paths_lanes(c.scene.view(), *c.lane_triangles, accel, c.cfg.integrator, camera_rays, lambdas, samplers,
-                        outs, primary, primary_found, n);
+                        outs, n);
       return;
     }
   }
@@ -383,6 +384,12 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   float beauty[kGroup][4];
   const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
   const bool light_aa = light_aa_pixel(c, accel, x, y, rays);
+  // Where the path lanes trace the group, they find the camera rays' hits too (in one
+  // coherent packet of their width); trace_group passes them no `primary`.
+  bool lanes_find_hits = false;
+#if KAURI_PATH_LANES
+  if constexpr (std::is_same_v<Accel, EmbreeAccel>) lanes_find_hits = c.lane_triangles != nullptr;
+#endif
   SobolSeedCache seeds;  // the pixel's pair seeds, hashed once for all its samples
   for (int g = 0; g < kTrace; g += kGroup) {  // each group's first sampler carries the sequence
     samplers[g].type = c.cfg.sampler;
@@ -395,9 +402,9 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
       const int n = std::min(kGroup, m - g);
       camera_group(c, x, y, t0 + uint32_t(g), n, c.cfg.seed, samplers + g, camera_rays + g, film_pos + g,
                    lambdas + g);
-      intersect_camera_rays(accel, camera_rays + g, n, primary + g, primary_found + g);
+      if (!lanes_find_hits) intersect_camera_rays(accel, camera_rays + g, n, primary + g, primary_found + g);
     }
-    trace_group(c, accel, camera_rays, lambdas, samplers, outs, primary, primary_found, m);
+    trace_group(c, accel, camera_rays, lambdas, samplers, outs, lanes_find_hits ? nullptr : primary, primary_found, m);
     for (int g = 0; g < m; g += kGroup) {
       const int n = std::min(kGroup, m - g);
       const uint32_t g0 = t0 + uint32_t(g);
