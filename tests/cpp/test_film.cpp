@@ -301,5 +301,82 @@ TEST(TileGrid, SmallImagesGetEnoughTilesPerPhase) {
   for (const auto& phase : g.phases) EXPECT_GE(phase.size(), 16u);
 }
 
+
+TEST(FilmSplat, WindowOfManyGroupsEqualsSampleBySample) {
+  // SplatWindow: a pixel's groups (full and partial, more than kMaxGroups so that it
+  // flushes in between) summed per window pixel and lane, added once, against splat_sample
+  // sample by sample; pixels inside the image and on its corners and edges.
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  const PixelFilter f;
+  ASSERT_TRUE(SplatWindow::applies(f));
+  const int w = 9, h = 7;
+  const int pixels[][2] = {{4, 3}, {0, 0}, {8, 6}, {1, 5}};
+  for (auto [x, y] : pixels) {
+    TestFilm window_film(w, h), single(w, h);
+    SplatWindow window;
+    const int groups = SplatWindow::kMaxGroups + 7;
+    for (int g = 0; g < groups; ++g) {
+      constexpr int L = SplatWindow::kLanes;  // 8, or 16 in the v4 core
+      const int n = g % 3 == 2 ? 1 + g % L : L;
+      Vec2 pos[SplatWindow::kLanes];
+      float v[SplatWindow::kLanes][4];
+      for (int k = 0; k < n; ++k) {
+        pos[k] = {Float(x) + uni(rng), Float(y) + (g == 0 && k == 0 ? 0.0f : uni(rng))};
+        for (int c = 0; c < 4; ++c) v[k][c] = c == 3 ? float((g + k) % 2) : 3 * uni(rng);
+        splat_sample(single.view(), f, pos[k], Vec3{v[k][0], v[k][1], v[k][2]}, v[k][3]);
+      }
+      window.add(window_film.view(), f, x, y, pos, v, n);
+    }
+    window.flush(window_film.view(), x, y);
+    window.flush(window_film.view(), x, y);  // nothing waiting: adds nothing
+    for (int py = 0; py < h; ++py)
+      for (int px = 0; px < w; ++px) {
+        const PixelAccum &a = window_film.at(px, py), &b = single.at(px, py);
+        SCOPED_TRACE(testing::Message() << "pixel " << x << "," << y << " at " << px << "," << py);
+        EXPECT_NEAR(a.weight, b.weight, 1e-5 * (1 + b.weight));
+        EXPECT_EQ(a.weight == 0, b.weight == 0);  // the same pixels reached
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(a.rgb[c], b.rgb[c], 1e-5 * (1 + std::fabs(b.rgb[c])));
+        EXPECT_NEAR(a.alpha, b.alpha, 1e-5 * (1 + b.alpha));
+        EXPECT_LE(a.alpha, a.weight);
+      }
+  }
+  PixelFilter box;
+  box.type = FilterType::Box;
+  EXPECT_FALSE(SplatWindow::applies(box));
+  PixelFilter wide;
+  wide.radius = 3;
+  EXPECT_FALSE(SplatWindow::applies(wide));
+}
+
+TEST(FilmSplat, WindowAlphaNeverExceedsItsWeight) {
+  // As GroupAlphaNeverExceedsItsWeight, summed over several groups before the flush.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  const PixelFilter f;
+  for (int trial = 0; trial < 200; ++trial) {
+    TestFilm film(7, 7);
+    SplatWindow window;
+    const bool all_hit = trial % 2 == 0;
+    for (int g = 0; g < 1 + trial % 9; ++g) {
+      Vec2 pos[SplatWindow::kLanes];
+      float v[SplatWindow::kLanes][4];
+      for (int k = 0; k < SplatWindow::kLanes; ++k) {
+        pos[k] = {3 + uni(rng), 3 + uni(rng)};
+        v[k][0] = v[k][1] = v[k][2] = uni(rng);
+        v[k][3] = all_hit || uni(rng) < 0.7f ? 1.0f : 0.0f;
+      }
+      window.add(film.view(), f, 3, 3, pos, v, SplatWindow::kLanes);
+    }
+    window.flush(film.view(), 3, 3);
+    for (const PixelAccum& p : film.px) {
+      if (all_hit)
+        ASSERT_EQ(p.alpha, p.weight) << "trial " << trial;
+      else
+        ASSERT_LE(p.alpha, p.weight) << "trial " << trial;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace kauri

@@ -370,7 +370,7 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   // so each path draws the dimensions it would draw alone and the image is as with one
   // sample at a time.
   constexpr int kGroup = EmbreeAccel::kPacketSize;
-  static_assert(kGroup == kSampleLanes && kGroup <= kSplatLanes, "a group's samples fill one vector");
+  static_assert(kGroup == kSampleLanes, "a group's samples fill one vector");
   constexpr int kTrace = kPathLanes > kGroup ? kPathLanes : kGroup;  // samples traced together
   static_assert(kTrace % kGroup == 0, "whole groups traced together");
   Sampler samplers[kTrace];
@@ -381,8 +381,12 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   bool primary_found[kTrace];
   PathOutput outs[kTrace];
   Vec3 rgb[kGroup];
-  float beauty[kGroup][4];
+  float beauty[kTrace][4];
+  static_assert(kTrace <= SplatWindow::kLanes, "the traced samples splat at once");
   const bool splat = c.cfg.reconstruction == FilmReconstruction::Splat;
+  // The radius-2 Gaussian's splats summed over the pixel's groups, added to the film once.
+  const bool splat_window = splat && SplatWindow::applies(c.cfg.filter);
+  SplatWindow window;
   const bool light_aa = light_aa_pixel(c, accel, x, y, rays);
   // Where the path lanes trace the group, they find the camera rays' hits too (in one
   // coherent packet of their width); trace_group passes them no `primary`.
@@ -416,12 +420,15 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
       if (light_aa) light_aa_rays(c, accel, x, y, g0, n, rays);
       sample_rgb_lanes(sv, c.cfg.integrator.clamp, o, lambdas + g, n, rgb);
       for (int k = 0; k < n; ++k)
-        finish_sample(c, x, y, g0 + uint32_t(k), rgb[k], o[k], lambdas[g + k], aov, beauty[k]);
-      if (!(splat && splat_group(c.film, c.cfg.filter, x, y, film_pos + g, beauty, n)))
-        for (int k = 0; k < n; ++k)
-          add_beauty(c, px, film_pos[g + k], Vec3{beauty[k][0], beauty[k][1], beauty[k][2]}, beauty[k][3]);
+        finish_sample(c, x, y, g0 + uint32_t(k), rgb[k], o[k], lambdas[g + k], aov, beauty[g + k]);
     }
+    if (splat_window)
+      window.add(c.film, c.cfg.filter, x, y, film_pos, beauty, m);
+    else
+      for (int k = 0; k < m; ++k)
+        add_beauty(c, px, film_pos[k], Vec3{beauty[k][0], beauty[k][1], beauty[k][2]}, beauty[k][3]);
   }
+  if (splat_window) window.flush(c.film, x, y);
 }
 
 /// Film sums → pixel values: beauty, and the AOVs when they were gathered.
