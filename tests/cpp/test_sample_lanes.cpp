@@ -89,6 +89,42 @@ TEST(SampleLanes, StartedSamplersDrawTheScalarDimensions) {
   }
 }
 
+TEST(SampleLanes, WideStartDrawsTheScalarDimensions) {
+  // start_pixel_samples_wide: kStartLanes samples at once (16 in the v4 core, where this
+  // file is in kauri_tests_v4 too), full and partial groups, against the scalar sampler.
+  SobolSeedCache cache;
+  for (SamplerType type : {SamplerType::Sobol, SamplerType::ZSobol}) {
+    for (uint32_t spp : {1u, 5u, 16u, 24u, 100u}) {
+      for (int px : {0, 3, 77}) {
+        const int py = 2 * px + 1;
+        for (uint32_t g0 = 0; g0 < spp + 40; g0 += kStartLanes) {
+          const int n = int(std::min<uint32_t>(kStartLanes, spp + 40 - g0));
+          Sampler lanes[kStartLanes];
+          lanes[0] = fresh_sampler(type, spp);
+          lanes[0].seeds = px == 3 ? &cache : nullptr;
+          const uint32_t block = 1u << ceil_log2(spp);
+          const bool straddles = type == SamplerType::ZSobol && g0 < block && g0 + uint32_t(n) > block;
+          const bool started = start_pixel_samples_wide(lanes, n, px, py, g0, 0x1234567890abULL);
+          ASSERT_EQ(started, !straddles) << "spp " << spp << " g0 " << g0;
+          if (!started) continue;
+          for (int k = 0; k < n; ++k) {
+            Sampler ref = fresh_sampler(type, spp);
+            ref.start_pixel_sample(px, py, g0 + uint32_t(k), 0x1234567890abULL);
+            ASSERT_EQ(lanes[k].index, ref.index);
+            ASSERT_EQ(lanes[k].reversed_index, ref.reversed_index);
+            ASSERT_EQ(lanes[k].pixel_seed, ref.pixel_seed);
+            for (int d = 0; d < int(kSobolBatch) + 3; ++d) {
+              const Vec2 a = lanes[k].get_2d(), b = ref.get_2d();
+              EXPECT_SAME_FLOAT(a.x, b.x);
+              EXPECT_SAME_FLOAT(a.y, b.y);
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(SampleLanes, IndependentSamplerIsStartedOneByOne) {
   Sampler s[8];
   s[0] = fresh_sampler(SamplerType::Independent, 16);

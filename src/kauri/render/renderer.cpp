@@ -402,10 +402,18 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   }
   for (uint32_t t0 = s0; t0 < s1; t0 += kTrace) {
     const int m = int(std::min<uint32_t>(kTrace, s1 - t0));
+    // The samplers of all traced samples started at once where the core's vectors hold
+    // them (16 in the v4 core), else per group in camera_group.
+    const bool started = kStartLanes >= kTrace && kTrace > kGroup &&
+                         start_pixel_samples_wide(samplers, m, x, y, t0, c.cfg.seed);
     for (int g = 0; g < m; g += kGroup) {
       const int n = std::min(kGroup, m - g);
-      camera_group(c, x, y, t0 + uint32_t(g), n, c.cfg.seed, samplers + g, camera_rays + g, film_pos + g,
-                   lambdas + g);
+      if (started)
+        camera_rays_lanes(sv.camera, sv.wavelengths, splat, c.cfg.filter, x, y, samplers + g, n, camera_rays + g,
+                          film_pos + g, lambdas + g);
+      else
+        camera_group(c, x, y, t0 + uint32_t(g), n, c.cfg.seed, samplers + g, camera_rays + g, film_pos + g,
+                     lambdas + g);
       if (!lanes_find_hits) intersect_camera_rays(accel, camera_rays + g, n, primary + g, primary_found + g);
     }
     trace_group(c, accel, camera_rays, lambdas, samplers, outs, lanes_find_hits ? nullptr : primary, primary_found, m);

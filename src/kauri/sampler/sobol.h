@@ -111,6 +111,22 @@ inline U32x8 reverse_words(U32x8 v) {
   __builtin_memcpy(&v, &x, sizeof v);
   return v;
 }
+#if defined(__AVX512BW__)
+/// reverse_lane_bits over 16 lanes (AVX-512BW vpshufb on 64 bytes).
+inline lanes::U32x16 reverse_words(lanes::U32x16 v) {
+  const __m512i byte_order = _mm512_broadcast_i32x4(_mm_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12));
+  const __m512i rev_lo = _mm512_broadcast_i32x4(_mm_setr_epi8(0, 8, 4, 12, 2, 10, 6, 14, 1, 9, 5, 13, 3, 11, 7, 15));
+  const __m512i rev_hi = _mm512_slli_epi16(rev_lo, 4);
+  const __m512i nibble = _mm512_set1_epi8(0x0F);
+  __m512i x;
+  __builtin_memcpy(&x, &v, sizeof x);
+  const __m512i b = _mm512_shuffle_epi8(x, byte_order);
+  const __m512i lo = _mm512_and_si512(b, nibble), hi = _mm512_and_si512(_mm512_srli_epi16(b, 4), nibble);
+  x = _mm512_or_si512(_mm512_shuffle_epi8(rev_hi, lo), _mm512_shuffle_epi8(rev_lo, hi));
+  __builtin_memcpy(&v, &x, sizeof v);
+  return v;
+}
+#endif
 inline U32x4 reverse_words(U32x4 v) {
   __m128i x;
   __builtin_memcpy(&x, &v, sizeof x);
