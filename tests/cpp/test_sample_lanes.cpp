@@ -49,23 +49,27 @@ Ray scalar_camera_sample(const Camera& cam, const WavelengthDistribution& wl, bo
   return cam.generate_ray(*film_pos, u_lens);
 }
 
-TEST(SampleLanes, StartedSamplersDrawTheScalarDimensions) {
+/// Samplers started L at a time by `start` (start_pixel_samples_lanes or _wide), full and
+/// partial groups, against the scalar sampler: the same indices and the same values of the
+/// lanes' batch (pairs 0 … kSobolBatch − 1) and of the pairs the samplers draw after it.
+template <int L, class Start>
+void check_started_like_scalar(Start start) {
   // Without and with a SobolSeedCache shared by the group (render_pixel_samples' samplers).
   SobolSeedCache cache;
   for (SobolSeedCache* seeds : {static_cast<SobolSeedCache*>(nullptr), &cache})
   for (SamplerType type : {SamplerType::Sobol, SamplerType::ZSobol}) {
-    for (uint32_t spp : {1u, 5u, 8u, 16u, 100u}) {
+    for (uint32_t spp : {1u, 5u, 8u, 16u, 24u, 100u}) {
       for (int px : {0, 3, 77}) {
         const int py = 2 * px + 1;
         // Past spp too: a ZSobol pixel's samples beyond its block use the pixel's own sequence.
-        for (uint32_t g0 = 0; g0 < spp + 24; g0 += 8) {
-          const int n = int(std::min<uint32_t>(8, spp + 24 - g0));
-          Sampler lanes[8];
+        for (uint32_t g0 = 0; g0 < spp + 40; g0 += L) {
+          const int n = int(std::min<uint32_t>(L, spp + 40 - g0));
+          Sampler lanes[L];
           lanes[0] = fresh_sampler(type, spp);
           lanes[0].seeds = seeds;
           const uint32_t block = 1u << ceil_log2(spp);
           const bool straddles = type == SamplerType::ZSobol && g0 < block && g0 + uint32_t(n) > block;
-          const bool started = start_pixel_samples_lanes(lanes, n, px, py, g0, 0x1234567890abULL);
+          const bool started = start(lanes, n, px, py, g0, 0x1234567890abULL);
           ASSERT_EQ(started, !straddles) << "spp " << spp << " g0 " << g0;
           if (!started) continue;
           for (int k = 0; k < n; ++k) {
@@ -75,8 +79,6 @@ TEST(SampleLanes, StartedSamplersDrawTheScalarDimensions) {
             ASSERT_EQ(lanes[k].reversed_index, ref.reversed_index);
             ASSERT_EQ(lanes[k].pixel_seed, ref.pixel_seed);
             ASSERT_EQ(lanes[k].dimension, ref.dimension);
-            // Pairs 0 … kSobolBatch − 1 come from the lanes' batch, the rest from the
-            // sampler itself.
             for (int d = 0; d < int(kSobolBatch) + 3; ++d) {
               const Vec2 a = lanes[k].get_2d(), b = ref.get_2d();
               EXPECT_SAME_FLOAT(a.x, b.x);
@@ -89,40 +91,13 @@ TEST(SampleLanes, StartedSamplersDrawTheScalarDimensions) {
   }
 }
 
+TEST(SampleLanes, StartedSamplersDrawTheScalarDimensions) {
+  check_started_like_scalar<kSampleLanes>(start_pixel_samples_lanes);
+}
+
 TEST(SampleLanes, WideStartDrawsTheScalarDimensions) {
-  // start_pixel_samples_wide: kStartLanes samples at once (16 in the v4 core, where this
-  // file is in kauri_tests_v4 too), full and partial groups, against the scalar sampler.
-  SobolSeedCache cache;
-  for (SamplerType type : {SamplerType::Sobol, SamplerType::ZSobol}) {
-    for (uint32_t spp : {1u, 5u, 16u, 24u, 100u}) {
-      for (int px : {0, 3, 77}) {
-        const int py = 2 * px + 1;
-        for (uint32_t g0 = 0; g0 < spp + 40; g0 += kStartLanes) {
-          const int n = int(std::min<uint32_t>(kStartLanes, spp + 40 - g0));
-          Sampler lanes[kStartLanes];
-          lanes[0] = fresh_sampler(type, spp);
-          lanes[0].seeds = px == 3 ? &cache : nullptr;
-          const uint32_t block = 1u << ceil_log2(spp);
-          const bool straddles = type == SamplerType::ZSobol && g0 < block && g0 + uint32_t(n) > block;
-          const bool started = start_pixel_samples_wide(lanes, n, px, py, g0, 0x1234567890abULL);
-          ASSERT_EQ(started, !straddles) << "spp " << spp << " g0 " << g0;
-          if (!started) continue;
-          for (int k = 0; k < n; ++k) {
-            Sampler ref = fresh_sampler(type, spp);
-            ref.start_pixel_sample(px, py, g0 + uint32_t(k), 0x1234567890abULL);
-            ASSERT_EQ(lanes[k].index, ref.index);
-            ASSERT_EQ(lanes[k].reversed_index, ref.reversed_index);
-            ASSERT_EQ(lanes[k].pixel_seed, ref.pixel_seed);
-            for (int d = 0; d < int(kSobolBatch) + 3; ++d) {
-              const Vec2 a = lanes[k].get_2d(), b = ref.get_2d();
-              EXPECT_SAME_FLOAT(a.x, b.x);
-              EXPECT_SAME_FLOAT(a.y, b.y);
-            }
-          }
-        }
-      }
-    }
-  }
+  // kStartLanes samples at once: 16 in the v4 core (this file is in kauri_tests_v4 too).
+  check_started_like_scalar<kStartLanes>(start_pixel_samples_wide);
 }
 
 TEST(SampleLanes, IndependentSamplerIsStartedOneByOne) {
