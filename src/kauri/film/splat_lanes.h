@@ -28,25 +28,34 @@ namespace film_detail {
 using lanes::F32x8;
 using lanes::I32x8;
 
-/// exp_poly (core/math.h) over 8 lanes.
-inline F32x8 exp_poly_lanes(F32x8 x) {
-  const F32x8 n = __builtin_ia32_roundps256(x * 1.44269504f + 0.5f, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-  const I32x8 e = (__builtin_convertvector(n, I32x8) + 127) << 23;
-  F32x8 scale;  // 2^n
+/// round(x) toward −∞, lane by lane.
+inline F32x8 floor_lanes(F32x8 x) { return __builtin_ia32_roundps256(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+#if KAURI_LANES_AVX512
+inline lanes::F32x16 floor_lanes(lanes::F32x16 x) {
+  return lanes::F32x16(_mm512_roundscale_ps(__m512(x), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
+}
+#endif
+
+/// exp_poly (core/math.h) over the lanes of F (8 or 16 floats), I its integer vector.
+template <class F, class I>
+inline F exp_poly_lanes(F x) {
+  const F n = floor_lanes(x * 1.44269504f + 0.5f);
+  const I e = (__builtin_convertvector(n, I) + 127) << 23;
+  F scale;  // 2^n
   __builtin_memcpy(&scale, &e, sizeof scale);
   return exp_poly_reduced(x, n) * scale;
 }
 
 /// Filter weights of window pixels c − 2 … c + 2 (along one axis) for the lanes' positions
 /// p: weight_1d(p − (c − 2 + i + ½)), 0 outside the support [−r, r).
-inline void window_weights(const PixelFilter& f, int c, F32x8 p, float w[5][8]) {
+template <class F, class I>
+inline void window_weights(const PixelFilter& f, int c, F p, F w[5]) {
   const Float a = 1 / (2 * f.sigma * f.sigma);
   for (int i = 0; i < 5; ++i) {
-    const F32x8 d = p - (Float(c - 2 + i) + 0.5f);
-    const I32x8 inside = (d >= -f.radius) & (d < f.radius);
-    const F32x8 x = -a * d * d;  // outside the support possibly below exp_poly's range: clamped, then dropped
-    const F32x8 wi = inside ? exp_poly_lanes(x < -80 ? F32x8{} - 80 : x) : F32x8{};
-    __builtin_memcpy(w[i], &wi, sizeof wi);
+    const F d = p - (Float(c - 2 + i) + 0.5f);
+    const I inside = (d >= -f.radius) & (d < f.radius);
+    const F x = -a * d * d;  // outside the support possibly below exp_poly's range: clamped, then dropped
+    w[i] = inside ? exp_poly_lanes<F, I>(x < -80 ? F{} - 80 : x) : F{};
   }
 }
 
@@ -71,30 +80,6 @@ inline float lane_sum_pairwise(__m256 a) {
 inline constexpr int kWindowLanes = KAURI_LANES_AVX512 ? 16 : 8;
 using WindowF = std::conditional_t<kWindowLanes == 16, lanes::F32x16, F32x8>;
 using WindowI = std::conditional_t<kWindowLanes == 16, lanes::I32x16, I32x8>;
-
-/// round(x) toward −∞, lane by lane.
-inline F32x8 floor_lanes(F32x8 x) { return __builtin_ia32_roundps256(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
-#if KAURI_LANES_AVX512
-inline lanes::F32x16 floor_lanes(lanes::F32x16 x) {
-  return lanes::F32x16(_mm512_roundscale_ps(__m512(x), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC));
-}
-#endif
-
-/// window_weights at SplatWindow's width (exp_poly_lanes' steps).
-inline void window_weights_wide(const PixelFilter& f, int c, WindowF p, WindowF w[5]) {
-  const Float a = 1 / (2 * f.sigma * f.sigma);
-  for (int i = 0; i < 5; ++i) {
-    const WindowF d = p - (Float(c - 2 + i) + 0.5f);
-    const WindowI inside = (d >= -f.radius) & (d < f.radius);
-    WindowF x = -a * d * d;
-    x = x < -80 ? WindowF{} - 80 : x;  // outside the support possibly below exp_poly's range: clamped, then dropped
-    const WindowF n = floor_lanes(x * 1.44269504f + 0.5f);
-    const WindowI e = (__builtin_convertvector(n, WindowI) + 127) << 23;
-    WindowF scale;  // 2^n
-    __builtin_memcpy(&scale, &e, sizeof scale);
-    w[i] = inside ? exp_poly_reduced(x, n) * scale : WindowF{};
-  }
-}
 
 /// The lanes as one AVX2 register: 16 lanes folded onto 8 (lane k plus lane k + 8), the
 /// same fold for every sum, so that the trees above stay one order for all of them.
@@ -124,9 +109,9 @@ inline bool splat_group(const FilmView& film, const PixelFilter& f, int x, int y
     px_pos[k] = k < n ? film_pos[k].x : Float(x) + 4 * f.radius;
     py_pos[k] = k < n ? film_pos[k].y : Float(y) + 4 * f.radius;
   }
-  alignas(32) float wx[kWindow][kSplatLanes], wy[kWindow][kSplatLanes];
-  window_weights(f, x, px_pos, wx);
-  window_weights(f, y, py_pos, wy);
+  F32x8 wx[kWindow], wy[kWindow];
+  window_weights<F32x8, I32x8>(f, x, px_pos, wx);
+  window_weights<F32x8, I32x8>(f, y, py_pos, wy);
   // The beauty's channels across the lanes (lanes ≥ n: 0).
   alignas(32) float vc[4][kSplatLanes];
   for (int c = 0; c < 4; ++c)
@@ -136,11 +121,11 @@ inline bool splat_group(const FilmView& film, const PixelFilter& f, int x, int y
   for (int j = 0; j < kWindow; ++j) {
     const int py = y - 2 + j;
     if (py < 0 || py >= film.height) continue;
-    const __m256 wrow = _mm256_load_ps(wy[j]);
+    const __m256 wrow = __m256(wy[j]);
     for (int i = 0; i < kWindow; ++i) {
       const int px = x - 2 + i;
       if (px < 0 || px >= film.width) continue;
-      const __m256 w = _mm256_mul_ps(wrow, _mm256_load_ps(wx[i]));
+      const __m256 w = _mm256_mul_ps(wrow, __m256(wx[i]));
       const float w_sum = lane_sum_pairwise(w);
       if (w_sum == 0) continue;  // no sample reaches this pixel
       const __m128 s = lane_sums4(_mm256_mul_ps(w, r), _mm256_mul_ps(w, g), _mm256_mul_ps(w, b),
@@ -162,10 +147,10 @@ inline bool splat_group(const FilmView& film, const PixelFilter& f, int x, int y
 /// (float; kWindowLanes = 8, or 16 in the x86-64-v4 core), added to the film once at the end
 /// (flush): the reduction across the lanes, the conversion to double and the film's loads
 /// and stores once per pixel instead of once per group of 8 (splat_group). A group then
-/// costs its weights and 25 × 5 vector multiply-adds. The film gets the same sums as from splat_group per group, up to float rounding
-/// (each lane's sum runs over the pixel's groups in float before the tree across lanes);
-/// every lane adds w · α and w in the same order, so Σ w α ≤ Σ w still holds (see
-/// lane_sum_pairwise). A render's pixel sums at most kMaxGroups groups before a flush, so
+/// costs its weights and 25 × 5 vector multiply-adds. The film gets the same sums as from
+/// splat_group per group, up to float rounding (each lane's sum runs over the pixel's
+/// groups in float before the tree across lanes); every lane adds w · α and w in the same
+/// order, so Σ w α ≤ Σ w still holds (see lane_sum_pairwise). A render's pixel sums at most kMaxGroups groups before a flush, so
 /// that float sums of long renders stay within ~10⁻⁵ of the double ones.
 class SplatWindow {
  public:
@@ -212,8 +197,8 @@ inline void SplatWindow::add(const FilmView& film, const PixelFilter& f, int x, 
     py_pos[k] = k < n ? film_pos[k].y : Float(y) + 4 * f.radius;
   }
   WindowF wx[5], wy[5];
-  window_weights_wide(f, x, px_pos, wx);
-  window_weights_wide(f, y, py_pos, wy);
+  window_weights<WindowF, WindowI>(f, x, px_pos, wx);
+  window_weights<WindowF, WindowI>(f, y, py_pos, wy);
   WindowF c[4] = {};
   for (int k = 0; k < n; ++k) c[0][k] = v[k][0], c[1][k] = v[k][1], c[2][k] = v[k][2], c[3][k] = v[k][3];
   auto accumulate = [](float* sum, WindowF add) {

@@ -528,10 +528,7 @@ inline void prefill_emission(const Light& l, const SampledWavelengths* lambda, i
   alignas(kLaneBytes) float Le[kSpectrumSamples][W];
   for (int i = 0; i < kSpectrumSamples; ++i) {
     const LF x_lam = load(lam[i]);
-    // SigmoidPolynomial::sigmoid of the quadratic (Horner form), with its clamp.
-    LF x = (poly.c0 * x_lam + poly.c1) * x_lam + poly.c2;
-    x = vmin(vmax(x, splat(-0x1p60f)), splat(0x1p60f));
-    const LF sig = Float(0.5) + x / (2 * vsqrt(1 + x * x));
+    const LF sig = sigmoid_lanes((poly.c0 * x_lam + poly.c1) * x_lam + poly.c2);  // Horner form, as the scalar
     // DenselySampled::operator() (0 outside the table; the last knot ends the last interval).
     const LF t = (x_lam - I.lambda_min) / I.step;
     const LI inside = (t >= 0) & (t <= Float(I.count - 1));
@@ -632,8 +629,8 @@ __attribute__((noinline)) inline bool bsdf_vertex(const SceneView& s, const Inte
 /// `rays`, wavelengths, samplers (left at the dimension trace_path leaves each) and outputs
 /// as trace_path's. The lanes find the camera rays' hits themselves, as one packet of their
 /// width with Embree's coherent context; before, the render loop sent them to Embree 8 at a
-/// time and converted the hits to HitRecords and back into the lanes (callgrind: Cornell
-/// box −1.6%, textured room −2.0%, environment −3.9%, hangar −2.6% instructions). The scene must be
+/// time and converted the hits to HitRecords and back into the lanes (callgrind, 8 lanes:
+/// Cornell box −4.1%, environment −7.6% instructions). The scene must be
 /// path_lanes_supported(), `tris` its build_lane_triangles(), and `accel` without direct
 /// shapes.
 template <class Accel>
@@ -679,9 +676,9 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   const DirectShape* direct_shapes = accel.direct_shapes();
   for (bool camera = true;; camera = false) {  // the camera rays first, with Embree's coherent context
     LI alive = load(P.alive);
-    LI geom, prim;
+    LI geom, prim;  // the bounce's closest hits (the camera rays' on the first pass)
     LF t, hu, hv;
-    {
+    {  // its rays' queries; what they leave behind stays in this scope
       put(rh.ray.org_x, o.x), put(rh.ray.org_y, o.y), put(rh.ray.org_z, o.z);
       put(rh.ray.dir_x, d.x), put(rh.ray.dir_y, d.y), put(rh.ray.dir_z, d.z);
       // The direct shapes first, across the lanes, as EmbreeAccel::intersect: a hit

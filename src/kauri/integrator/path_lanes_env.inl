@@ -33,6 +33,12 @@ inline LF acos_poly(LF x) {
   return atan2_poly(vsqrt((1 - x) * (1 + x)), x);
 }
 
+/// SigmoidPolynomial::sigmoid over lanes (the same clamp and expression).
+inline LF sigmoid_lanes(LF x) {
+  x = vmin(vmax(x, splat(-0x1p60f)), splat(0x1p60f));
+  return Float(0.5) + x / (2 * vsqrt(x * x + 1));
+}
+
 /// table[index] in every lane.
 inline LF gather(const float* table, LI index) {
 #if KAURI_LANES_AVX512
@@ -135,10 +141,7 @@ inline void env_radiance(const Light& l, LF u, LF v, LI m, const LaneSpectra& sp
     const LF sw = LF(t[0]) * weight[k];
     for (int i = 0; i < kSpectrumSamples; ++i) {
       const LF lam = spectra.lambda[i];
-      LF x = (LF(t[1]) * lam + LF(t[2])) * lam + LF(t[3]);
-      x = vmin(vmax(x, splat(-0x1p60f)), splat(0x1p60f));
-      const LF sig = Float(0.5) + x / (2 * vsqrt(x * x + 1));
-      Le[i] += sig * sw;
+      Le[i] += sigmoid_lanes((LF(t[1]) * lam + LF(t[2])) * lam + LF(t[3])) * sw;
     }
   }
   for (int i = 0; i < kSpectrumSamples; ++i) Le[i] *= spectra.illuminant[i];
