@@ -231,6 +231,48 @@ TEST(LightTree, DeepTreesKeepTheirTrails) {
   }
 }
 
+// sample_many interleaves the descents of up to kLightTreeBatch points level by level: the
+// same light, probability and remapped u as sample() one point at a time, bit for bit, for
+// batches of every size, on a tree whose leaves lie at different depths.
+TEST(LightTree, BatchedDescentsMatchOneAtATime) {
+  std::vector<Light> lights;
+  std::vector<Float> power;
+  PCG32 rng(23, 9);
+  for (int i = 0; i < 700; ++i) {
+    const Point3 c{20 * rng.next_float() - 10, 20 * rng.next_float() - 10, 20 * rng.next_float() - 10};
+    lights.push_back(triangle_light(c, normalize(Vec3{rng.next_float() - 0.5f, -1, rng.next_float() - 0.5f}), 0.05f,
+                                    i % 3 == 0));
+    power.push_back(0.5f + rng.next_float());
+  }
+  LightTreeStorage t = build_light_tree(lights, power);
+  const LightTreeView v = t.view();
+  int depths = 0;  // the levels at which the batches' descents ended (bit d: depth d)
+  for (int n = 0; n <= kLightTreeBatch; ++n)
+    for (int trial = 0; trial < 40; ++trial) {
+      Float u[kLightTreeBatch], pmf[kLightTreeBatch], ur[kLightTreeBatch];
+      Point3 p[kLightTreeBatch];
+      Normal3 ns[kLightTreeBatch];
+      int light[kLightTreeBatch];
+      for (int i = 0; i < n; ++i) {
+        u[i] = rng.next_float();
+        p[i] = Point3{24 * rng.next_float() - 12, 24 * rng.next_float() - 12, 24 * rng.next_float() - 12};
+        ns[i] = i % 5 == 4 ? Normal3{} : normalize(Vec3{rng.next_float() - 0.5f, rng.next_float() - 0.5f, 0.3f});
+      }
+      v.sample_many(n, u, p, ns, light, pmf, ur);
+      for (int i = 0; i < n; ++i) {
+        Float pmf1, ur1;
+        ASSERT_EQ(light[i], v.sample(u[i], p[i], ns[i], &pmf1, &ur1)) << "batch of " << n << ", point " << i;
+        ASSERT_EQ(pmf[i], pmf1);
+        ASSERT_EQ(ur[i], ur1);
+        LightTreeDescent d;  // the levels this descent takes
+        int levels = 1;
+        while (v.step(&d, u[i], p[i], ns[i]) < 0) ++levels;
+        depths |= 1 << levels;
+      }
+    }
+  EXPECT_GE(__builtin_popcount(unsigned(depths)), 2) << "leaves at more than one depth";
+}
+
 // The vector steps of a node (AVX2 where the build has it) against their lane-by-lane
 // definitions, on every node of a tree at random points: the lanes' probabilities, and the
 // lane an interval position falls in (the same lane but within rounding of a boundary).

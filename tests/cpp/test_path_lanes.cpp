@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "kauri/integrator/path_lanes.h"
 #include "kauri/render/renderer.h"
@@ -220,12 +221,18 @@ RenderResult render_box(const CompiledScene& c, bool lanes, int max_diffuse, int
   return render(c, cfg);
 }
 
+void expect_same_images_of(Scene& s, int max_diffuse, int rr_depth, int max_glossy, int max_transmission, int spp);
+
 void expect_same_images(bool normals_and_uvs, bool two_sided, int max_diffuse, int rr_depth, bool sphere = false,
                         bool sky = false, bool others = false, int max_glossy = 8, int max_transmission = 12,
                         int spp = 16) {
   Scene s;
   add_box(s, normals_and_uvs, two_sided, sphere, sky);
   if (others) add_other_materials(s);
+  expect_same_images_of(s, max_diffuse, rr_depth, max_glossy, max_transmission, spp);
+}
+
+void expect_same_images_of(Scene& s, int max_diffuse, int rr_depth, int max_glossy, int max_transmission, int spp) {
   auto c = s.compile(24, 24);
   ASSERT_TRUE(path_lanes_supported(c->view()));
   const RenderResult a = render_box(*c, false, max_diffuse, rr_depth, max_glossy, max_transmission, spp);
@@ -265,6 +272,22 @@ TEST(PathLanes, RouletteFromTheFirstBounce) { expect_same_images(false, false, 6
 TEST(PathLanes, DiffuseBudgetOfOneAndNoRoulette) { expect_same_images(true, false, 1, 9); }
 TEST(PathLanes, AnalyticSphereAndDisk) { expect_same_images(false, false, 6, 4, true); }
 TEST(PathLanes, EnvironmentConstantAndDistantLights) { expect_same_images(false, false, 6, 4, true, true); }
+// 24 small lamps under the ceiling beside the big one (52 triangle lights): the light tree
+// chooses, the lanes' descents interleaved (SceneView::select_lights_tree), with the
+// environment's share of the choices taken lane by lane.
+TEST(PathLanes, ManyLampsChosenByTheLightTree) {
+  Scene s;
+  add_box(s, false, false, true, true);
+  for (int i = 0; i < 24; ++i) {
+    const float x = -0.9f + 0.15f * float(i % 12), z = i < 12 ? -0.8f : 0.6f, e = 0.04f;
+    MeshDesc lamp = quad("lamp" + std::to_string(i), {x, 1.97f, z, x + e, 1.97f, z, x + e, 1.97f, z + e, x, 1.97f, z + e}, -1);
+    lamp.emissive = true;
+    lamp.emission.rgb = {1, 0.7f + 0.01f * float(i), 0.5f};
+    lamp.emission.intensity = 40;
+    s.add_mesh(0, lamp);
+  }
+  expect_same_images_of(s, 6, 4, 8, 12, 16);
+}
 // Paths that reach a conductor, a rough or smooth dielectric (with dispersion) or a
 // two-lobe material scatter there lane by lane; at a material that reads vertex attributes
 // they go on one at a time from that hit: the image is still trace_path's.

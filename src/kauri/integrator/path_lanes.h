@@ -801,6 +801,36 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     store(LI{}, V.scatter), store(LI{}, V.conductor), store(LI{}, V.dielectric), store(LI{}, V.specular);
     store(LI{}, V.nee), store(LI{}, V.env);
     store(LI{}, G.active), store(LI{}, G.nee);
+    // Next-event estimation's light for lane k (chosen by `lc`): a triangle's row and
+    // point and an image's direction are taken across the lanes below.
+    auto nee_light = [&](int k, const path_detail::LightChoice& lc) {
+      if (!(lc.light >= 0 && lc.pmf > 0)) return;
+      const Light& l = s.lights[lc.light];
+      V.nee[k] = -1;
+      V.light_pmf[k] = lc.pmf;
+      if (l.type == LightType::Triangle) {  // its row and its point across the lanes below
+        V.light_dir[k] = V.light_delta[k] = 0;
+        V.u_light[0][k] = lc.u.x, V.u_light[1][k] = lc.u.y;
+        V.light_index[k] = lc.light;
+        V.Le.set(k, light_emission(l, lambda[k], &P.emission[k]));
+      } else if (l.type == LightType::EnvMap) {  // its direction across the lanes below
+        V.light_dir[k] = V.env[k] = -1;
+        V.light_delta[k] = 0;
+        V.u_light[0][k] = lc.u.x, V.u_light[1][k] = lc.u.y;
+        V.light_index[k] = lc.light;
+      } else {  // another infinite light (path_lanes_supported): a direction, sampled here
+        const LightSample ls = sample_light(l, V.p.get(k), lc.u, lambda[k], kNextEventDensity, &P.emission[k]);
+        V.light_dir[k] = -1;
+        V.light_delta[k] = ls.delta ? -1 : 0;
+        V.light_index[k] = 0;
+        V.light_wi.set(k, ls.wi);
+        V.light_pdf[k] = ls.pdf;
+        V.Le.set(k, ls.L);
+      }
+    };
+    // The lanes whose light the tree chooses after this loop, and their samples for it.
+    int tree_lanes[W], n_tree_lanes = 0;
+    Vec2 tree_u[W];
     for (int bits = mask_bits(alive); bits;) {
       const int k = next_lane(&bits);
       PathOutput& out = outs[k];
@@ -821,10 +851,14 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       // at a BSDF without lobes too (its sample then fails).
       Vec2 u[3];
       if (scatters) samplers[k].get_2d_n(u, 3);
+      // The light tree weighs the lights by the point and its normal, for the group's lanes
+      // together after this loop (tree_lanes), except at a BSDF lane, which reads its
+      // choice here. The power distribution reads neither, and the lane's values stay in
+      // their vectors.
+      const bool tree_later = tree && lm != kLaneBsdf;
       path_detail::LightChoice lc;
-      // The light tree weighs the lights by the point and its normal; the power
-      // distribution reads neither, and the lane's values stay in their vectors.
-      if (scatters) lc = path_detail::choose_light(s, cfg, tree ? V.p.get(k) : Point3{}, tree ? V.ns.get(k) : Normal3{}, u[0]);
+      if (scatters && !tree_later)
+        lc = path_detail::choose_light(s, cfg, tree ? V.p.get(k) : Point3{}, tree ? V.ns.get(k) : Normal3{}, u[0]);
       if (P.depth[k] == 0) {
         out.hit = true;
         out.normal = V.ns.get(k);
@@ -890,32 +924,30 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         V.u_rr[k] = u[1].y;
         continue;
       }
-      if (lc.light >= 0 && lc.pmf > 0) {
-        const Light& l = s.lights[lc.light];
-        V.nee[k] = -1;
-        V.light_pmf[k] = lc.pmf;
-        if (l.type == LightType::Triangle) {  // its row and its point across the lanes below
-          V.light_dir[k] = V.light_delta[k] = 0;
-          V.u_light[0][k] = lc.u.x, V.u_light[1][k] = lc.u.y;
-          V.light_index[k] = lc.light;
-          V.Le.set(k, light_emission(l, lambda[k], &P.emission[k]));
-        } else if (l.type == LightType::EnvMap) {  // its direction across the lanes below
-          V.light_dir[k] = V.env[k] = -1;
-          V.light_delta[k] = 0;
-          V.u_light[0][k] = lc.u.x, V.u_light[1][k] = lc.u.y;
-          V.light_index[k] = lc.light;
-        } else {  // another infinite light (path_lanes_supported): a direction, sampled here
-          const LightSample ls = sample_light(l, V.p.get(k), lc.u, lambda[k], kNextEventDensity, &P.emission[k]);
-          V.light_dir[k] = -1;
-          V.light_delta[k] = ls.delta ? -1 : 0;
-          V.light_index[k] = 0;
-          V.light_wi.set(k, ls.wi);
-          V.light_pdf[k] = ls.pdf;
-          V.Le.set(k, ls.L);
-        }
+      if (tree_later) {
+        tree_lanes[n_tree_lanes++] = k;
+        tree_u[k] = u[0];
+      } else {
+        nee_light(k, lc);
       }
       V.u_rr[k] = u[1].y;
       V.u_bsdf[0][k] = u[2].x, V.u_bsdf[1][k] = u[2].y;
+    }
+    if (n_tree_lanes > 0 && s.n_lights > 0) {  // choose_light's steps, the tree's descents interleaved
+      static_assert(W <= kLightTreeBatch, "a group's lanes fit one batch of the tree's descents");
+      Float ux[W], pmf[W], u_remapped[W];
+      Point3 lp[W];
+      Normal3 lns[W];
+      int chosen[W];
+      for (int j = 0; j < n_tree_lanes; ++j) {
+        const int k = tree_lanes[j];
+        ux[j] = tree_u[k].x, lp[j] = V.p.get(k), lns[j] = V.ns.get(k);
+      }
+      s.select_lights_tree(n_tree_lanes, ux, lp, lns, chosen, pmf, u_remapped);
+      for (int j = 0; j < n_tree_lanes; ++j) {
+        const int k = tree_lanes[j];
+        nee_light(k, path_detail::LightChoice{chosen[j], pmf[j], Vec2{u_remapped[j], tree_u[k].y}});
+      }
     }
     const LI scatter = load(V.scatter), bsdf_lanes = load(G.active);
     if (!any(scatter | bsdf_lanes)) break;  // every path ended at this bounce

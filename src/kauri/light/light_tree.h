@@ -298,41 +298,93 @@ inline int light_tree_step_lanes(const LightTreeNode& node, __m256 i, Float u, F
 }
 #endif
 
+/// Where one root-to-leaf descent of LightTreeView::sample stands: the node whose children
+/// it chooses among next, the product of its choices' probabilities, and the interval
+/// [lo, lo + width) of u that reaches the node.
+struct LightTreeDescent {
+  int node = 0;
+  Float prob = 1, lo = 0, width = 1;
+};
+
+/// Most points LightTreeView::sample_many takes at once (the path lanes' width).
+inline constexpr int kLightTreeBatch = 16;
+
 struct LightTreeView {
   const LightTreeNode* nodes = nullptr;  // nodes[0] holds the root's children
   const uint32_t* trail = nullptr;       // per light: kLightTreeTrailBits per level, the lane taken
   int n_nodes = 0;
+
+  /// One level of descent `d` for u at p, shading normal ns: the light (≥ 0) where the
+  /// chosen child is a leaf, else −1 with d at the chosen child. u is not rescaled at each
+  /// step (a division on the critical path): the interval of u that reaches the node is
+  /// split instead, without branches (the choice is a draw the branch predictor cannot learn).
+  KAURI_HOST_DEVICE int step(LightTreeDescent* d, Float u, Point3 p, Normal3 ns) const {
+    const LightTreeNode& n = nodes[d->node];
+    Float start, taken;
+#if KAURI_LIGHT_TREE_AVX2
+    const int chosen = light_tree_step_lanes(n, light_tree_importance_vector(n, p, ns), u, d->lo, d->width, &start, &taken);
+#else
+    Float pk[kLightTreeArity];
+    light_tree_child_probs(n, p, ns, pk);
+    const int chosen = light_tree_choose_scalar(pk, u, d->lo, d->width, &start);
+    taken = pk[chosen];
+#endif
+    d->prob *= taken;
+    d->lo = start;
+    d->width *= taken;
+    const int c = n.child[chosen];
+    if (c < 0) return -1 - c;
+    d->node = c;
+    return -1;
+  }
+  /// u rescaled to [0, 1) within the leaf's interval (sample()'s u_remapped).
+  KAURI_HOST_DEVICE static Float remapped(const LightTreeDescent& d, Float u) {
+    return d.width > 0 ? fmin_(fmax_((u - d.lo) / d.width, Float(0)), kOneMinusEpsilon) : Float(0);
+  }
 
   /// A finite light chosen at p, shading normal ns (zero: no surface); *pmf its
   /// probability (0 if the tree has no power).
   KAURI_HOST_DEVICE int sample(Float u, Point3 p, Normal3 ns, Float* pmf, Float* u_remapped = nullptr) const {
     *pmf = 0;
     if (n_nodes == 0) return -1;
-    // u is not rescaled at each step (a division on the critical path): the interval
-    // [lo, lo + width) of u that reaches the node is split instead, without branches (the
-    // choice is a draw the branch predictor cannot learn).
-    Float prob = 1, lo = 0, width = 1;
-    int i = 0;
+    LightTreeDescent d;
     for (;;) {
-      const LightTreeNode& n = nodes[i];
-      Float start, taken;
-#if KAURI_LIGHT_TREE_AVX2
-      const int chosen = light_tree_step_lanes(n, light_tree_importance_vector(n, p, ns), u, lo, width, &start, &taken);
-#else
-      Float pk[kLightTreeArity];
-      light_tree_child_probs(n, p, ns, pk);
-      const int chosen = light_tree_choose_scalar(pk, u, lo, width, &start);
-      taken = pk[chosen];
-#endif
-      prob *= taken;
-      lo = start;
-      width *= taken;
-      if (n.child[chosen] < 0) {
-        *pmf = prob;
-        if (u_remapped) *u_remapped = width > 0 ? fmin_(fmax_((u - lo) / width, Float(0)), kOneMinusEpsilon) : Float(0);
-        return -1 - n.child[chosen];
+      const int light = step(&d, u, p, ns);
+      if (light < 0) continue;
+      *pmf = d.prob;
+      if (u_remapped) *u_remapped = remapped(d, u);
+      return light;
+    }
+  }
+  /// sample() for n ≤ kLightTreeBatch points at once, point i's light in light[i], its
+  /// probability in pmf[i] and its remapped u in u_remapped[i]: the same choices, bit for
+  /// bit, with the descents interleaved level by level. One descent is a chain of dependent
+  /// steps (the bounds, their sum, the choice, the chosen child's node), each waiting on
+  /// the last; the points' chains are independent, so the CPU runs several side by side.
+  KAURI_HOST_DEVICE void sample_many(int n, const Float* u, const Point3* p, const Normal3* ns, int* light, Float* pmf,
+                                     Float* u_remapped) const {
+    LightTreeDescent d[kLightTreeBatch];
+    int todo[kLightTreeBatch];
+    for (int i = 0; i < n; ++i) {
+      light[i] = -1, pmf[i] = 0, u_remapped[i] = 0;
+      d[i] = LightTreeDescent{};
+      todo[i] = i;
+    }
+    if (n_nodes == 0) return;
+    for (int left = n; left > 0;) {  // each pass: one level of every unfinished descent
+      int next = 0;
+      for (int j = 0; j < left; ++j) {
+        const int i = todo[j];
+        const int l = step(&d[i], u[i], p[i], ns[i]);
+        if (l < 0) {
+          todo[next++] = i;
+          continue;
+        }
+        light[i] = l;
+        pmf[i] = d[i].prob;
+        u_remapped[i] = remapped(d[i], u[i]);
       }
-      i = n.child[chosen];
+      left = next;
     }
   }
   /// Probability that sample() at p, shading normal ns, returns `light` (a finite light of

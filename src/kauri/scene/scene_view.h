@@ -79,6 +79,27 @@ struct SceneView {
     *pmf = (1 - F) * pi;
     return infinite_lights[k];
   }
+  /// select_light(u[i], p[i], n[i], true, pmf + i, u_remapped + i) for count ≤
+  /// kLightTreeBatch points at once: the tree's descents interleaved
+  /// (LightTreeView::sample_many), the same choices bit for bit.
+  KAURI_HOST_DEVICE void select_lights_tree(int count, const Float* u, const Point3* p, const Normal3* n, int* light,
+                                            Float* pmf, Float* u_remapped) const {
+    int index[kLightTreeBatch], chosen[kLightTreeBatch], m = 0;
+    Float ut[kLightTreeBatch], pt[kLightTreeBatch], ur[kLightTreeBatch];
+    Point3 pm[kLightTreeBatch];
+    Normal3 nm[kLightTreeBatch];
+    const Float F = finite_light_share;
+    for (int i = 0; i < count; ++i) {
+      if (light_tree.n_nodes == 0 || !(u[i] < F)) {  // the infinite lights' share: select_light's steps
+        light[i] = select_light(u[i], p[i], n[i], true, pmf + i, u_remapped + i);
+        continue;
+      }
+      index[m] = i, ut[m] = fmin_(u[i] / F, kOneMinusEpsilon), pm[m] = p[i], nm[m] = n[i];
+      ++m;
+    }
+    light_tree.sample_many(m, ut, pm, nm, chosen, pt, ur);
+    for (int j = 0; j < m; ++j) light[index[j]] = chosen[j], pmf[index[j]] = F * pt[j], u_remapped[index[j]] = ur[j];
+  }
   /// Probability that select_light(·, p, n, tree) returns `light`.
   KAURI_HOST_DEVICE Float light_pmf(int light, Point3 p, Normal3 n, bool tree) const {
     if (!tree || light_tree.n_nodes == 0 || lights[light].is_infinite()) return light_distribution.discrete_pmf(light);
