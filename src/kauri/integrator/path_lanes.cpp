@@ -72,6 +72,15 @@ LaneTriangles LaneTrianglesStore::view() const {
   return t;
 }
 
+/// Appends the guide table of the n-bin distribution with CDF `cdf` (LaneEnvTables) to
+/// `out`: G + 1 entries, G the power of two ≥ n. Returns G.
+static int append_guide(const float* cdf, int n, std::vector<int32_t>* out) {
+  int G = 1;
+  while (G < n) G *= 2;
+  for (int j = 0; j <= G; ++j) out->push_back(find_interval(cdf, n, Float(j) / Float(G)));
+  return G;
+}
+
 /// The triangle light whose emission id the most triangle lights share, if at least half of
 /// them share it and that emission is an RGB illuminant spectrum (a sigmoid times the
 /// working space's illuminant, what every RGB light colour becomes); else −1. Ties: the
@@ -148,6 +157,7 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
   // Environment images: next-event estimation's density, read flat (Distribution2D's rows
   // lie one after another).
   t.env.assign(size_t(std::max(s.n_lights, 1)), LaneEnvTables{});
+  t.env_guides.assign(t.env.size(), {});
   for (int i = 0; i < s.n_lights; ++i) {
     const Light& l = s.lights[i];
     if (l.type != LightType::EnvMap || !has_light_density(l, kNextEventDensity)) continue;
@@ -157,6 +167,11 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
     e.conditional_func = d.conditional[0].func, e.conditional_cdf = d.conditional[0].cdf;
     e.marginal_func = d.marginal.func, e.marginal_cdf = d.marginal.cdf, e.marginal_integral = d.marginal.integral;
     e.nu = d.nu, e.nv = d.nv;
+    std::vector<int32_t>& g = t.env_guides[size_t(i)];
+    e.gv = append_guide(d.marginal.cdf, d.nv, &g);
+    for (int v = 0; v < d.nv; ++v) e.gu = append_guide(d.conditional[v].cdf, d.nu, &g);
+    e.marginal_guide = g.data();
+    e.conditional_guide = g.data() + e.gv + 1;
   }
   const size_t rows = std::max<size_t>(count, 1);
   t.triangles.assign(rows, LaneTriangleRow{});

@@ -127,6 +127,15 @@ struct LaneEnvTables {
   const float* marginal_cdf = nullptr;      // nv + 1
   float marginal_integral = 0;              // > 0 where the tables are set
   int nu = 0, nv = 0;
+  // Guide tables of the inverse-CDF searches (cutpoints, Chen & Asau 1974): for a
+  // distribution of n bins, G = the power of two ≥ n buckets, and guide[j] (j = 0 … G) the
+  // bin find_interval returns for u = j / G. A u in bucket j = ⌊u G⌋ (exact: G is a power
+  // of two) has its bin in [guide[j], guide[j + 1]], so the search starts from that
+  // bracket, mostly a bin or two, instead of halving all n: ⌈log₂ n⌉ gathers, each
+  // waiting on the last, were the environment scene's largest cost in the lanes.
+  const int32_t* marginal_guide = nullptr;     // gv + 1
+  const int32_t* conditional_guide = nullptr;  // nv × (gu + 1)
+  int gu = 0, gv = 0;
 };
 /// Where the lanes run a material's vertices (LaneTriangles::lane_material).
 enum LaneMaterial : uint8_t {
@@ -162,6 +171,7 @@ struct LaneTrianglesStore {
   std::vector<LaneUvRow> uv;
   std::vector<LaneNormalRow> normals;
   std::vector<LaneEnvTables> env;  // per scene light
+  std::vector<std::vector<int32_t>> env_guides;  // per scene light: its marginal's guide, then its rows'
   std::vector<uint8_t> lane_material;
   std::vector<RoughDielectricLobe::MS> dielectric_ms;
   int common_emission_light = -1;

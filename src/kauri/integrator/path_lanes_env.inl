@@ -47,6 +47,14 @@ inline LF gather(const float* table, LI index) {
   return LF(_mm256_i32gather_ps(table, __m256i(index), 4));
 #endif
 }
+/// table[index] in every lane, for a table of ints.
+inline LI gather_int(const int32_t* table, LI index) {
+#if KAURI_LANES_AVX512
+  return LI(_mm512_i32gather_epi32(__m512i(index), table, 4));
+#else
+  return LI(_mm256_i32gather_epi32(table, __m256i(index), 4));
+#endif
+}
 /// lanes::load_rows4 at the lanes' width.
 inline void load_rows4(const float* table, LI index, LF column[4]) {
 #if KAURI_LANES_AVX512
@@ -68,12 +76,17 @@ inline void cos_sin_turns(LF t, LF* cos, LF* sin) {
   *cos = (LF)(x ^ (((k + 1) & 2) << 30));
   *sin = (LF)(y ^ ((k & 2) << 30));
 }
-/// find_interval over lanes, for each lane in the n + 1 entries at cdf + offset: the same
-/// halving steps, a gather each.
-inline LI find_interval(const float* cdf, LI offset, int n, LF u) {
-  LI lo{};
-  for (int len = n; len > 1;) {
-    const int half = len / 2;
+/// find_interval over lanes, for each lane in the n + 1 entries at cdf + offset, from the
+/// bracket its guide table gives (the G + 1 entries at guide + guide_offset, LaneEnvTables):
+/// the same halving steps within [guide[j], guide[j + 1]], j = ⌊u G⌋, until every lane's
+/// bracket is one bin. The same bin as halving all n (find_interval), which the bracket
+/// holds.
+inline LI find_interval_guided(const float* cdf, LI offset, const int32_t* guide, LI guide_offset, int G, LF u) {
+  LI j = __builtin_convertvector(u * Float(G), LI);
+  j = guide_offset + (j < 0 ? LI{} : (j >= G ? LI{} + (G - 1) : j));  // lanes outside the mask may hold any u
+  LI lo = gather_int(guide, j), len = gather_int(guide, j + 1) - lo + 1;
+  for (LI more = len > 1; any(more); more = len > 1) {
+    const LI half = len >> 1;  // 0 in the lanes already done: cdf[lo] ≤ u keeps lo
     lo = gather(cdf, offset + lo + half) <= u ? lo + half : lo;
     len -= half;
   }
@@ -82,8 +95,8 @@ inline LI find_interval(const float* cdf, LI offset, int n, LF u) {
 /// Distribution1D::sample_continuous over lanes, each lane's distribution the n bins at
 /// cdf + cdf_offset (n + 1 entries) and func + func_offset with ∫ `integral`.
 inline LF sample_continuous(const float* cdf, const float* func, LI cdf_offset, LI func_offset, LF integral,
-                               int n, LF u, LF* pdf, LI* bin) {
-  const LI i = find_interval(cdf, cdf_offset, n, u);
+                               int n, const int32_t* guide, LI guide_offset, int G, LF u, LF* pdf, LI* bin) {
+  const LI i = find_interval_guided(cdf, cdf_offset, guide, guide_offset, G, u);
   const LF c0 = gather(cdf, cdf_offset + i), width = gather(cdf, cdf_offset + i + 1) - c0;
   const LF du = width > 0 ? (u - c0) / (width > 0 ? width : splat(1)) : splat(0.5f);
   *pdf = integral > 0 ? gather(func, func_offset + i) / (integral > 0 ? integral : splat(1)) : LF{};
@@ -195,9 +208,10 @@ inline void sample_env(const Light& l, const LaneEnvTables& t, LF ux, LF uy, LI 
   LF pdf_v, pdf_u;
   LI row, column;
   const LF y = sample_continuous(t.marginal_cdf, t.marginal_func, LI{}, LI{}, splat(t.marginal_integral), t.nv,
-                                    uy, &pdf_v, &row);
+                                    t.marginal_guide, LI{}, t.gv, uy, &pdf_v, &row);
   const LF x = sample_continuous(t.conditional_cdf, t.conditional_func, row * (t.nu + 1), row * t.nu,
-                                    gather(t.marginal_func, row), t.nu, ux, &pdf_u, &column);
+                                    gather(t.marginal_func, row), t.nu, t.conditional_guide, row * (t.gu + 1), t.gu,
+                                    ux, &pdf_u, &column);
   const LF pdf_uv = pdf_v * pdf_u;
   LF cos_phi, sin_phi, cos_theta, sin_theta;  // φ = 2π u, θ = π v
   cos_sin_turns(x, &cos_phi, &sin_phi);
