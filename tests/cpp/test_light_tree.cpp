@@ -27,6 +27,22 @@ Light triangle_light(Point3 c, Vec3 n, Float size, bool two_sided) {
   return l;
 }
 
+/// `count` small lamps facing down-ish, scattered over a 20-unit cube (a third two-sided),
+/// of power 0.5–1.5, from PCG32(seed, stream).
+struct ScatteredLamps {
+  std::vector<Light> lights;
+  std::vector<Float> power;
+  ScatteredLamps(int count, uint64_t seed, uint64_t stream) {
+    PCG32 rng(seed, stream);
+    for (int i = 0; i < count; ++i) {
+      const Point3 c{20 * rng.next_float() - 10, 20 * rng.next_float() - 10, 20 * rng.next_float() - 10};
+      lights.push_back(triangle_light(c, normalize(Vec3{rng.next_float() - 0.5f, -1, rng.next_float() - 0.5f}),
+                                      0.05f, i % 3 == 0));
+      power.push_back(0.5f + rng.next_float());
+    }
+  }
+};
+
 /// 60 small lights of random position, orientation, sidedness and power (one without
 /// power), two spheres, a point light and an environment (which stays outside the tree).
 struct RandomLights {
@@ -203,16 +219,9 @@ TEST(LightTree, TheReceiversCosineWeighsLightsNearItsHorizonDown) {
 // 5000 lamps: five levels of 8 lanes, so every trail step (3 bits per level) is used. The
 // pmf still sums to one, and sample() returns what pmf() says, for lights on every branch.
 TEST(LightTree, DeepTreesKeepTheirTrails) {
-  std::vector<Light> lights;
-  std::vector<Float> power;
-  PCG32 rng(17, 3);
-  for (int i = 0; i < 5000; ++i) {
-    const Point3 c{20 * rng.next_float() - 10, 20 * rng.next_float() - 10, 20 * rng.next_float() - 10};
-    lights.push_back(triangle_light(c, normalize(Vec3{rng.next_float() - 0.5f, -1, rng.next_float() - 0.5f}), 0.05f,
-                                    i % 3 == 0));
-    power.push_back(0.5f + rng.next_float());
-  }
-  LightTreeStorage t = build_light_tree(lights, power);
+  const ScatteredLamps lamps(5000, 17, 3);
+  const std::vector<Light>& lights = lamps.lights;
+  LightTreeStorage t = build_light_tree(lights, lamps.power);
   const LightTreeView v = t.view();
   uint32_t deepest = 0;
   for (uint32_t bits : t.trail) deepest |= bits;
@@ -235,16 +244,9 @@ TEST(LightTree, DeepTreesKeepTheirTrails) {
 // same light, probability and remapped u as sample() one point at a time, bit for bit, for
 // batches of every size, on a tree whose leaves lie at different depths.
 TEST(LightTree, BatchedDescentsMatchOneAtATime) {
-  std::vector<Light> lights;
-  std::vector<Float> power;
-  PCG32 rng(23, 9);
-  for (int i = 0; i < 700; ++i) {
-    const Point3 c{20 * rng.next_float() - 10, 20 * rng.next_float() - 10, 20 * rng.next_float() - 10};
-    lights.push_back(triangle_light(c, normalize(Vec3{rng.next_float() - 0.5f, -1, rng.next_float() - 0.5f}), 0.05f,
-                                    i % 3 == 0));
-    power.push_back(0.5f + rng.next_float());
-  }
-  LightTreeStorage t = build_light_tree(lights, power);
+  const ScatteredLamps lamps(700, 23, 9);
+  PCG32 rng(5, 1);
+  LightTreeStorage t = build_light_tree(lamps.lights, lamps.power);
   const LightTreeView v = t.view();
   int depths = 0;  // the levels at which the batches' descents ended (bit d: depth d)
   for (int n = 0; n <= kLightTreeBatch; ++n)
