@@ -588,9 +588,22 @@ namespace path_lanes_detail {
 /// BSDF vertex (non-PGO builds, 96 × 96, 32 spp): none handed over 1.06× the time, those of
 /// groups of 2 or fewer live lanes 1.00×, 4 or fewer 0.977×, 6 or fewer 0.977×.
 inline constexpr int kBsdfLanesMin = W / 2 + 1;
-/// Whether a path at a vertex of kind `lm` goes on in trace_path (`sparse`: the group has
-/// fewer than kBsdfLanesMin live lanes).
-inline bool handed_over(uint8_t lm, bool sparse) { return lm == kHandOver || (lm == kLaneBsdf && sparse); }
+/// Live lanes at least for a group to run its conductor, dielectric and specular vertices
+/// across the lanes. Their vector stages cost the same for one live lane as for sixteen,
+/// and a glass sphere's paths outlive the group's others (refraction and total internal
+/// reflection escape roulette): the glossy bench scene (one core, 16 lanes, v4 core
+/// without profile, 16 alternations, the time against running every such vertex in the
+/// lanes) took 0.938× handing a group's last path over to trace_path, 0.927× at 2 or
+/// fewer live lanes, **0.920×** at 3 or fewer, 0.929× at 4, 0.951× at 8, 0.988× at 12 and
+/// 1.25× handing every such path over. W / 4 is that optimum at 16 lanes; the 8-lane core
+/// takes it at 2 (not measured there).
+inline constexpr int kVectorLobeLanesMin = W / 4;
+/// Whether a path at a vertex of kind `lm` goes on in trace_path, the group having `live`
+/// live lanes.
+inline bool handed_over(uint8_t lm, int live) {
+  return lm == kHandOver || (lm == kLaneBsdf && live < kBsdfLanesMin) ||
+         ((lm == kLaneConductor || lm == kLaneDielectric || lm == kLaneSpecular) && live < kVectorLobeLanesMin);
+}
 
 /// trace_path's vertex for lane k at the surface in `V`, of material `mat` (kLaneBsdf): the
 /// BSDF built, the albedo output, next-event estimation up to its shadow ray
@@ -787,13 +800,13 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     V.p.store(p), V.ng.store(ng), V.ns.store(ns), V.wo.store(wo), V.dpdu.store(dpdu);
     store(uv[0], V.uv[0]), store(uv[1], V.uv[1]);
     // A group down to half its lanes or fewer hands its paths over at kLaneBsdf vertices
-    // (kBsdfLanesMin).
-    const bool sparse = __builtin_popcount(unsigned(mask_bits(alive))) < kBsdfLanesMin;
+    // (kBsdfLanesMin), one down to a quarter at its vector lobes' too (kVectorLobeLanesMin).
+    const int live = __builtin_popcount(unsigned(mask_bits(alive)));
     const LI analytic = alive & ~mesh;
     if (any(analytic)) {  // compute_surface_hit lane by lane
       for (int bits = mask_bits(analytic); bits;) {
         const int k = next_lane(&bits);
-        if (shape_material[k] >= 0 && handed_over(tris.lane_material[shape_material[k]], sparse)) {
+        if (shape_material[k] >= 0 && handed_over(tris.lane_material[shape_material[k]], live)) {
           material[k] = shape_material[k], light[k] = -1;  // handed over below, where trace_path finds its surface
           continue;
         }
@@ -846,7 +859,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       PathOutput& out = outs[k];
       const int hmat = material[k], hlight = light[k];
       const LaneMaterial lm = hmat >= 0 ? LaneMaterial(tris.lane_material[hmat]) : kLaneLambert;
-      if (lm != kLaneLambert && handed_over(lm, sparse)) {  // hand the path over
+      if (lm != kLaneLambert && handed_over(lm, live)) {  // hand the path over
         HitRecord h;
         h.t = t[k], h.u = hu[k], h.v = hv[k], h.geom = uint32_t(geom[k]), h.prim = uint32_t(prim[k]);
         const PathState st = P.state(k);
