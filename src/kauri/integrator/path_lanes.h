@@ -598,10 +598,17 @@ inline constexpr int kBsdfLanesMin = W / 2 + 1;
 /// 1.25× handing every such path over. W / 4 is that optimum at 16 lanes; the 8-lane core
 /// takes it at 2 (not measured there).
 inline constexpr int kVectorLobeLanesMin = W / 4;
-/// Whether a path at a vertex of kind `lm` goes on in trace_path, the group having `live`
-/// live lanes.
+/// Live lanes at least for a group to run its Lambert vertices across the lanes: a group's
+/// last live path goes on in trace_path. Environment scene 0.942× the time (one core, 16
+/// lanes, 40 alternations, quartiles 0.928–0.953; its paths escape early and leave one
+/// lane running the vector stages and the environment's lookups), Cornell box 0.983×
+/// (quartiles 0.93–1.06, noise); at 2 or fewer live lanes the Cornell box read 1.018×,
+/// and at 8 lanes (callgrind) 1.05× the instructions.
+inline constexpr int kLambertLanesMin = 2;
+/// Whether a path at a vertex of kind `lm` (a surface with a material) goes on in
+/// trace_path, the group having `live` live lanes.
 inline bool handed_over(uint8_t lm, int live) {
-  return lm == kHandOver || (lm == kLaneBsdf && live < kBsdfLanesMin) ||
+  return lm == kHandOver || live < kLambertLanesMin || (lm == kLaneBsdf && live < kBsdfLanesMin) ||
          ((lm == kLaneConductor || lm == kLaneDielectric || lm == kLaneSpecular) && live < kVectorLobeLanesMin);
 }
 
@@ -800,7 +807,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     V.p.store(p), V.ng.store(ng), V.ns.store(ns), V.wo.store(wo), V.dpdu.store(dpdu);
     store(uv[0], V.uv[0]), store(uv[1], V.uv[1]);
     // A group down to half its lanes or fewer hands its paths over at kLaneBsdf vertices
-    // (kBsdfLanesMin), one down to a quarter at its vector lobes' too (kVectorLobeLanesMin).
+    // (kBsdfLanesMin), one down to a quarter at its vector lobes' too (kVectorLobeLanesMin),
+    // and its last path at any surface (kLambertLanesMin).
     const int live = __builtin_popcount(unsigned(mask_bits(alive)));
     const LI analytic = alive & ~mesh;
     if (any(analytic)) {  // compute_surface_hit lane by lane
@@ -859,7 +867,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       PathOutput& out = outs[k];
       const int hmat = material[k], hlight = light[k];
       const LaneMaterial lm = hmat >= 0 ? LaneMaterial(tris.lane_material[hmat]) : kLaneLambert;
-      if (lm != kLaneLambert && handed_over(lm, live)) {  // hand the path over
+      if (hmat >= 0 && handed_over(lm, live)) {  // hand the path over
         HitRecord h;
         h.t = t[k], h.u = hu[k], h.v = hv[k], h.geom = uint32_t(geom[k]), h.prim = uint32_t(prim[k]);
         const PathState st = P.state(k);
