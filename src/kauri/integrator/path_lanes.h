@@ -964,7 +964,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       V.u_rr[k] = u[1].y;
       V.u_bsdf[0][k] = u[2].x, V.u_bsdf[1][k] = u[2].y;
     }
-    if (n_tree_lanes > 0 && s.n_lights > 0) {  // choose_light's steps, the tree's descents interleaved
+    if (n_tree_lanes > 0) {  // choose_light's steps (`tree`: the scene has lights), the descents interleaved
       static_assert(W <= kLightTreeBatch, "a group's lanes fit one batch of the tree's descents");
       Float ux[W], pmf[W], u_remapped[W];
       Point3 lp[W];

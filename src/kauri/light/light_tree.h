@@ -364,20 +364,20 @@ struct LightTreeView {
   KAURI_HOST_DEVICE void sample_many(int n, const Float* u, const Point3* p, const Normal3* ns, int* light, Float* pmf,
                                      Float* u_remapped) const {
     LightTreeDescent d[kLightTreeBatch];
-    int todo[kLightTreeBatch];
+    int unfinished[kLightTreeBatch];  // the points whose descent goes on, first `left` of them
     for (int i = 0; i < n; ++i) {
       light[i] = -1, pmf[i] = 0, u_remapped[i] = 0;
       d[i] = LightTreeDescent{};
-      todo[i] = i;
+      unfinished[i] = i;
     }
     if (n_nodes == 0) return;
     for (int left = n; left > 0;) {  // each pass: one level of every unfinished descent
       int next = 0;
       for (int j = 0; j < left; ++j) {
-        const int i = todo[j];
+        const int i = unfinished[j];
         const int l = step(&d[i], u[i], p[i], ns[i]);
         if (l < 0) {
-          todo[next++] = i;
+          unfinished[next++] = i;
           continue;
         }
         light[i] = l;
