@@ -150,8 +150,9 @@ inline bool splat_group(const FilmView& film, const PixelFilter& f, int x, int y
 /// costs its weights and 25 × 5 vector multiply-adds. The film gets the same sums as from
 /// splat_group per group, up to float rounding (each lane's sum runs over the pixel's
 /// groups in float before the tree across lanes); every lane adds w · α and w in the same
-/// order, so Σ w α ≤ Σ w still holds (see lane_sum_pairwise). A render's pixel sums at most kMaxGroups groups before a flush, so
-/// that float sums of long renders stay within ~10⁻⁵ of the double ones.
+/// order, so Σ w α ≤ Σ w still holds (see lane_sum_pairwise). A render's pixel sums at
+/// most kMaxGroups groups before a flush, so that float sums of long renders stay within
+/// ~10⁻⁵ of the double ones.
 class SplatWindow {
  public:
   static constexpr int kMaxGroups = 64;

@@ -57,6 +57,9 @@ struct SceneView {
             xyz_to_rgb[1][0] * xyz.x + xyz_to_rgb[1][1] * xyz.y + xyz_to_rgb[1][2] * xyz.z,
             xyz_to_rgb[2][0] * xyz.x + xyz_to_rgb[2][1] * xyz.y + xyz_to_rgb[2][2] * xyz.z};
   }
+  /// u < finite_light_share (the finite lights' part of a light choice) rescaled to [0, 1)
+  /// for the light tree.
+  KAURI_HOST_DEVICE Float tree_u(Float u) const { return fmin_(u / finite_light_share, kOneMinusEpsilon); }
   /// The light next-event estimation samples from point p, and its probability (*pmf = 0:
   /// none). `tree`: finite lights through the light tree, with their total power share;
   /// otherwise every light ∝ power. Infinite lights keep their power share either way.
@@ -68,7 +71,7 @@ struct SceneView {
     const Float F = finite_light_share;
     if (u < F) {
       Float pt;
-      const int li = light_tree.sample(fmin_(u / F, kOneMinusEpsilon), p, n, &pt, u_remapped);
+      const int li = light_tree.sample(tree_u(u), p, n, &pt, u_remapped);
       *pmf = F * pt;
       return li;
     }
@@ -94,7 +97,7 @@ struct SceneView {
         light[i] = select_light(u[i], p[i], n[i], true, pmf + i, u_remapped + i);
         continue;
       }
-      index[m] = i, ut[m] = fmin_(u[i] / F, kOneMinusEpsilon), pm[m] = p[i], nm[m] = n[i];
+      index[m] = i, ut[m] = tree_u(u[i]), pm[m] = p[i], nm[m] = n[i];
       ++m;
     }
     light_tree.sample_many(m, ut, pm, nm, chosen, pt, ur);
