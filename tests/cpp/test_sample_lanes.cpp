@@ -168,6 +168,55 @@ TEST(SampleLanes, CameraStageGivesCameraSamplesRays) {
   }
 }
 
+TEST(SampleLanes, CameraStageColumnsHoldTheRaysItWouldReturn) {
+  // For the path lanes the camera stage writes its rays as columns of the batch: the same
+  // rays, bit for bit, at the entries of the group, for the vector pinhole and the
+  // ray-by-ray cameras; the other entries untouched.
+  const WavelengthDistribution& wl = color_space(ColorSpaceId::LinearSRGB).wavelengths;
+  Camera cam;
+  cam.width = 64;
+  cam.height = 48;
+  cam.tan_half_x = 0.4f;
+  cam.tan_half_y = 0.3f;
+  cam.half_w = 2;
+  cam.half_h = 1.5f;
+  cam.focus_distance = 3;
+  const Float m[3][4] = {{0.8f, 0.0f, 0.6f, 1.5f}, {0.1f, 0.98f, -0.2f, 2.0f}, {-0.6f, 0.1f, 0.8f, -3.0f}};
+  std::memcpy(cam.camera_to_world.m, m, sizeof m);
+  for (Float lens : {Float(0), Float(0.1f)}) {
+    cam.lens_radius = lens;
+    for (int col0 : {0, 8}) {
+      for (int n : {8, 5}) {
+        Sampler a[8], b[8];
+        a[0] = fresh_sampler(SamplerType::ZSobol, 32);
+        b[0] = fresh_sampler(SamplerType::ZSobol, 32);
+        ASSERT_TRUE(start_pixel_samples_lanes(a, n, 17, 9, 8, 3));
+        ASSERT_TRUE(start_pixel_samples_lanes(b, n, 17, 9, 8, 3));
+        Ray rays[8];
+        Vec2 film_a[8], film_b[8];
+        SampledWavelengths lambda_a[8], lambda_b[8];
+        camera_rays_lanes(cam, wl, true, PixelFilter{}, 17, 9, a, n, rays, film_a, lambda_a);
+        BatchColumns cols;
+        for (int k = 0; k < kBatchColumns; ++k) cols.set_ray(k, Ray{Point3{-7, -7, -7}, Vec3{1, 0, 0}, 5});
+        Ray untouched[8];
+        camera_rays_lanes(cam, wl, true, PixelFilter{}, 17, 9, b, n, untouched, film_b, lambda_b, &cols, col0);
+        for (int k = 0; k < n; ++k) {
+          SCOPED_TRACE(testing::Message() << "lens " << lens << " col0 " << col0 << " n " << n << " sample " << k);
+          const Ray r = cols.ray(col0 + k);
+          for (int c = 0; c < 3; ++c) {
+            EXPECT_SAME_FLOAT(r.o[c], rays[k].o[c]);
+            EXPECT_SAME_FLOAT(r.d[c], rays[k].d[c]);
+          }
+          EXPECT_EQ(r.tmax, rays[k].tmax);
+          EXPECT_EQ(untouched[k].o.x, 0);  // `rays` is left alone
+        }
+        for (int k = 0; k < kBatchColumns; ++k)
+          if (k < col0 || k >= col0 + 8) EXPECT_EQ(cols.ray(k).o.x, -7) << "entry " << k << " outside the group";
+      }
+    }
+  }
+}
+
 TEST(SampleLanes, WavelengthsAtTheEdgesOfTheUnitInterval) {
   // The camera stage reads u from the samplers' batch: set it to values where the
   // rotation by i/4 lands exactly on 1 (wrapped to 0) or on the last knot.
@@ -214,8 +263,12 @@ TEST(SampleLanes, FilmStageGivesTheScalarColour) {
           for (int i = 1; i < kSpectrumSamples; ++i) lambda[k].pdf[i] = 0;
         if (rng.next_float() < 0.05f) out[k].L[2] = std::nanf("");
       }
+      // The radiance sums as the path lanes leave them: columns of the batch (here its
+      // second half, so the offset is exercised too).
+      BatchColumns cols;
+      for (int k = 0; k < n; ++k) cols.set_radiance(8 + k, out[k]);
       Vec3 rgb[8];
-      sample_rgb_lanes(sv, clamp, out, lambda, n, rgb);
+      sample_rgb_lanes(sv, clamp, cols, 8, out, lambda, n, rgb);
       for (int k = 0; k < n; ++k) {
         const SampledXYZWeights to_xyz(lambda[k]);
         const Vec3 indirect_xyz = to_xyz(out[k].L);

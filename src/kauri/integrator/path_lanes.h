@@ -655,9 +655,11 @@ __attribute__((noinline)) inline bool bsdf_vertex(const SceneView& s, const Inte
 }
 }  // namespace path_lanes_detail
 
-/// trace_path() for the n ≤ kPathLanes paths of a group, in vector lanes: camera rays
-/// `rays`, wavelengths, samplers (left at the dimension trace_path leaves each) and outputs
-/// as trace_path's. The lanes find the camera rays' hits themselves, as one packet of their
+/// trace_path() for the n ≤ kPathLanes paths of a group, in vector lanes: camera rays in
+/// `cols` (entries 0 … n − 1), wavelengths, samplers (left at the dimension trace_path
+/// leaves each) and outputs as trace_path's, except the radiance sums, which go to cols.L
+/// and cols.L_direct (entries ≥ n to ignore; `outs`' own L and L_direct_first hold only
+/// what handed-over paths gathered in trace_path). The lanes find the camera rays' hits themselves, as one packet of their
 /// width with Embree's coherent context; before, the render loop sent them to Embree 8 at a
 /// time and converted the hits to HitRecords and back into the lanes (callgrind, 8 lanes:
 /// Cornell box −4.1%, environment −7.6% instructions). The scene must be
@@ -665,7 +667,7 @@ __attribute__((noinline)) inline bool bsdf_vertex(const SceneView& s, const Inte
 /// shapes.
 template <class Accel>
 void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Accel& accel, const IntegratorSettings& cfg,
-                       const Ray* rays, SampledWavelengths* lambda, Sampler* samplers, PathOutput* outs, int n) {
+                       BatchColumns& cols, SampledWavelengths* lambda, Sampler* samplers, PathOutput* outs, int n) {
   using namespace path_lanes_detail;
   Paths P;
   Vertices V{};
@@ -674,7 +676,6 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   DielectricVertices Dv;  // and of V.dielectric
   Dv.terms = tris.dielectric_ms;
   SpecularVertices S;     // and of V.specular
-  alignas(kLaneBytes) float ray_o[3][W], ray_d[3][W], ray_tmax[W];
   // A camera path's PathState, in every lane (whole columns at once).
   store(lane_index() < n, P.alive);
   for (int32_t* c : {P.depth, P.diffuse_depth, P.glossy_depth, P.transmission_depth, P.last_segment, P.specular,
@@ -685,13 +686,11 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   for (int i = 0; i < kSpectrumSamples; ++i)
     store(splat(1), P.beta.v[i]), store(LF{}, P.L.v[i]), store(LF{}, P.L_direct.v[i]);
   if (tris.common_emission_light >= 0) prefill_emission(s.lights[tris.common_emission_light], lambda, n, &P);
-  for (int k = 0; k < W; ++k) {
-    const Ray& r = rays[k < n ? k : 0];
-    for (int a = 0; a < 3; ++a) ray_o[a][k] = r.o[a], ray_d[a][k] = r.d[a];
-    ray_tmax[k] = r.tmax;
-  }
-  V3 o{load(ray_o[0]), load(ray_o[1]), load(ray_o[2])}, d{load(ray_d[0]), load(ray_d[1]), load(ray_d[2])};
+  static_assert(W <= kBatchColumns, "a group's camera rays are columns of the batch");
+  V3 o{load(cols.o[0]), load(cols.o[1]), load(cols.o[2])}, d{load(cols.d[0]), load(cols.d[1]), load(cols.d[2])};
+  const LF camera_tmax = load(cols.tmax);
   LI ray_count{};
+  int handed = 0;  // the lanes whose paths went on in trace_path
   alignas(kLaneBytes) RTCRayHitW rh;
   alignas(kLaneBytes) RTCRayW shadow;
   // The packets' fields that stay the same: Embree writes a query's tfar and hit only.
@@ -713,7 +712,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       put(rh.ray.dir_x, d.x), put(rh.ray.dir_y, d.y), put(rh.ray.dir_z, d.z);
       // The direct shapes first, across the lanes, as EmbreeAccel::intersect: a hit
       // shortens the ray Embree traverses. `direct_geom`: the nearest one's geometry id.
-      LF tmax = camera ? load(ray_tmax) : splat(kInfinity);
+      LF tmax = camera ? camera_tmax : splat(kInfinity);
       LI direct_geom = ~LI{};
       for (size_t i = 0; i < n_direct; ++i) {
         LF ti;
@@ -873,6 +872,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         const PathState st = P.state(k);
         trace_path(s, accel, cfg, Ray{lane(o, k), lane(d, k), kInfinity}, lambda[k], samplers[k], &out, &h, true, &st);
         --out.rays;  // the ray to this hit is in the lane's count
+        handed |= 1 << k;
         P.alive[k] = 0;
         continue;
       }
@@ -1213,10 +1213,15 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   }
   alignas(kLaneBytes) int32_t ray_lane[W];
   store(ray_count, ray_lane);
-  for (int k = 0; k < n; ++k) {  // added to what a handed-over path's trace_path gathered
-    outs[k].L += P.L.get(k);
-    outs[k].L_direct_first += P.L_direct.get(k);
-    outs[k].rays += uint32_t(ray_lane[k]);
+  for (int k = 0; k < n; ++k) outs[k].rays += uint32_t(ray_lane[k]);
+  for (int bits = handed; bits;) {  // what a handed-over path's trace_path gathered
+    const int k = next_lane(&bits);
+    P.L.set(k, P.L.get(k) + outs[k].L);
+    P.L_direct.set(k, P.L_direct.get(k) + outs[k].L_direct_first);
+  }
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    store(load(P.L.v[i]), cols.L[i]);
+    store(load(P.L_direct.v[i]), cols.L_direct[i]);
   }
 }
 #endif

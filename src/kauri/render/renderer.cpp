@@ -335,25 +335,28 @@ void light_aa_rays(const TileContext& c, const Accel& accel, int x, int y, uint3
   }
 }
 
-/// The paths of a group of n camera samples: in vector lanes where the render allows it
-/// (TileContext::lane_triangles, Embree's packets at hand), which find the camera rays'
-/// hits themselves, else one by one from `primary` (null where the lanes trace).
+/// The paths of a group of n camera samples, their radiance sums into `cols`: in vector
+/// lanes where the render allows it (TileContext::lane_triangles, Embree's packets at
+/// hand), which find the hits of the camera rays in `cols` themselves, else one by one
+/// from `camera_rays` and their hits `primary` (null where the lanes trace).
 template <class Accel>
-void trace_group(const TileContext& c, const Accel& accel, const Ray* camera_rays, SampledWavelengths* lambdas,
-                 Sampler* samplers, PathOutput* outs, const HitRecord* primary, const bool* primary_found, int n) {
+void trace_group(const TileContext& c, const Accel& accel, const Ray* camera_rays, BatchColumns& cols,
+                 SampledWavelengths* lambdas, Sampler* samplers, PathOutput* outs, const HitRecord* primary,
+                 const bool* primary_found, int n) {
   for (int k = 0; k < n; ++k) outs[k] = PathOutput{};
 #if KAURI_PATH_LANES
   if constexpr (std::is_same_v<Accel, EmbreeAccel>) {
     if (c.lane_triangles) {
-      trace_paths_lanes(c.scene.view(), *c.lane_triangles, accel, c.cfg.integrator, camera_rays, lambdas, samplers,
-                        outs, n);
+      trace_paths_lanes(c.scene.view(), *c.lane_triangles, accel, c.cfg.integrator, cols, lambdas, samplers, outs, n);
       return;
     }
   }
 #endif
-  for (int k = 0; k < n; ++k)
+  for (int k = 0; k < n; ++k) {
     trace_path(c.scene.view(), accel, c.cfg.integrator, camera_rays[k], lambdas[k], samplers[k], &outs[k],
                &primary[k], primary_found[k]);
+    cols.set_radiance(k, outs[k]);
+  }
 }
 
 template <class Accel>
@@ -374,7 +377,9 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
   constexpr int kTrace = kPathLanes > kGroup ? kPathLanes : kGroup;  // samples traced together
   static_assert(kTrace % kGroup == 0, "whole groups traced together");
   Sampler samplers[kTrace];
-  Ray camera_rays[kTrace];
+  Ray camera_rays[kTrace];  // where the lanes do not trace (they take the rays in `cols`)
+  static_assert(kTrace <= kBatchColumns, "the traced samples are one batch of columns");
+  BatchColumns cols;
   Vec2 film_pos[kTrace];
   SampledWavelengths lambdas[kTrace]{};  // every lane initialised: the vector stages read all
   HitRecord primary[kTrace];
@@ -408,15 +413,19 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
                          start_pixel_samples_wide(samplers, m, x, y, t0, c.cfg.seed);
     for (int g = 0; g < m; g += kGroup) {
       const int n = std::min(kGroup, m - g);
-      if (started)
+      if (started) {
         camera_rays_lanes(sv.camera, sv.wavelengths, splat, c.cfg.filter, x, y, samplers + g, n, camera_rays + g,
-                          film_pos + g, lambdas + g);
-      else
+                          film_pos + g, lambdas + g, lanes_find_hits ? &cols : nullptr, g);
+      } else {
         camera_group(c, x, y, t0 + uint32_t(g), n, c.cfg.seed, samplers + g, camera_rays + g, film_pos + g,
                      lambdas + g);
+        if (lanes_find_hits)
+          for (int k = 0; k < n; ++k) cols.set_ray(g + k, camera_rays[g + k]);
+      }
       if (!lanes_find_hits) intersect_camera_rays(accel, camera_rays + g, n, primary + g, primary_found + g);
     }
-    trace_group(c, accel, camera_rays, lambdas, samplers, outs, lanes_find_hits ? nullptr : primary, primary_found, m);
+    trace_group(c, accel, camera_rays, cols, lambdas, samplers, outs, lanes_find_hits ? nullptr : primary,
+                primary_found, m);
     for (int g = 0; g < m; g += kGroup) {
       const int n = std::min(kGroup, m - g);
       const uint32_t g0 = t0 + uint32_t(g);
@@ -426,7 +435,7 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
         if (light_aa) o[k].rgb_exact = Vec3{0, 0, 0};  // the extra rays below estimate it
       }
       if (light_aa) light_aa_rays(c, accel, x, y, g0, n, rays);
-      sample_rgb_lanes(sv, c.cfg.integrator.clamp, o, lambdas + g, n, rgb);
+      sample_rgb_lanes(sv, c.cfg.integrator.clamp, cols, g, o, lambdas + g, n, rgb);
       for (int k = 0; k < n; ++k)
         finish_sample(c, x, y, g0 + uint32_t(k), rgb[k], o[k], lambdas[g + k], aov, beauty[g + k]);
     }

@@ -160,8 +160,11 @@ inline Vec3x8 cie_xyz_bar(F32x8 lambda) {
 /// lens pair, wavelength). `splat`: film positions uniform in the pixel (else drawn from
 /// `filter` around its centre). Every array holds kSampleLanes entries, initialised;
 /// entries n … kSampleLanes − 1 of `rays` and `lambda` are overwritten with values to ignore.
+/// With `cols` the rays go to its entries col0 … col0 + kSampleLanes − 1 instead of `rays`
+/// (col0 + kSampleLanes ≤ kBatchColumns), for the path lanes.
 inline void camera_rays_lanes(const Camera& cam, const WavelengthDistribution& wl, bool splat, const PixelFilter& filter,
-                              int x, int y, Sampler* s, int n, Ray* rays, Vec2* film_pos, SampledWavelengths* lambda) {
+                              int x, int y, Sampler* s, int n, Ray* rays, Vec2* film_pos, SampledWavelengths* lambda,
+                              BatchColumns* cols = nullptr, int col0 = 0) {
   for (int k = 0; k < n; ++k) {
     film_pos[k] = sample_film_position(splat, filter, x, y, Vec2{s[k].batch[0], s[k].batch[kSobolBatch]});
     s[k].dimension = 5;
@@ -190,6 +193,16 @@ inline void camera_rays_lanes(const Camera& cam, const WavelengthDistribution& w
     const Vec3x8 d_cam = normalize(Vec3x8{sx * cam.tan_half_x, sy * cam.tan_half_y, broadcast(-1)});
     const Vec3x8 d = normalize(apply(cam.camera_to_world.m, d_cam, 0));
     const Point3 o = cam.camera_to_world.point(Point3{0, 0, 0});
+    if (cols) {
+      const F32x8 oc[3] = {broadcast(o.x), broadcast(o.y), broadcast(o.z)}, dc[3] = {d.x, d.y, d.z};
+      const F32x8 tmax = broadcast(kInfinity);
+      for (int a = 0; a < 3; ++a) {
+        __builtin_memcpy(cols->o[a] + col0, &oc[a], sizeof(F32x8));
+        __builtin_memcpy(cols->d[a] + col0, &dc[a], sizeof(F32x8));
+      }
+      __builtin_memcpy(cols->tmax + col0, &tmax, sizeof(F32x8));
+      return;
+    }
     for (int k = 0; k < kSampleLanes; ++k) {
       rays[k] = Ray{};
       rays[k].o = o;
@@ -200,16 +213,21 @@ inline void camera_rays_lanes(const Camera& cam, const WavelengthDistribution& w
 #else
   for (int k = 0; k < n; ++k) lambda[k] = sample_wavelengths(wl, s[k].batch[2]);
 #endif
-  for (int k = 0; k < n; ++k) rays[k] = cam.generate_ray(film_pos[k], Vec2{s[k].batch[1], s[k].batch[kSobolBatch + 1]});
+  for (int k = 0; k < n; ++k) {
+    const Ray r = cam.generate_ray(film_pos[k], Vec2{s[k].batch[1], s[k].batch[kSobolBatch + 1]});
+    if (cols) cols->set_ray(col0 + k, r);
+    else rays[k] = r;
+  }
 }
 
 /// The film stage's colour of a group: the RGB each path's output adds to the film, its
 /// direct part and the colour of the lights its camera ray met (rgb_exact) as they are,
 /// and the indirect clamped to luminance `clamp` (0: off), as the scalar render path
-/// computed it. Arrays of kSampleLanes initialised entries; rgb[n …]
-/// are to be ignored.
-inline void sample_rgb_lanes(const SceneView& sv, Float clamp, const PathOutput* out, const SampledWavelengths* lambda,
-                             int n, Vec3* rgb) {
+/// computed it. The paths' radiance sums are entries col0 … col0 + kSampleLanes − 1 of
+/// `cols` (col0 + kSampleLanes ≤ kBatchColumns), their rgb_exact in `out`. Arrays of
+/// kSampleLanes initialised entries; rgb[n …] are to be ignored.
+inline void sample_rgb_lanes(const SceneView& sv, Float clamp, const BatchColumns& cols, int col0,
+                             const PathOutput* out, const SampledWavelengths* lambda, int n, Vec3* rgb) {
 #if KAURI_SAMPLE_LANES
   using namespace lanes_detail;
   const Float norm = 1 / (Float(kSpectrumSamples) * tables::kCieYIntegral);
@@ -217,8 +235,10 @@ inline void sample_rgb_lanes(const SceneView& sv, Float clamp, const PathOutput*
   F32x8 ls[kSpectrumSamples], pdfs[kSpectrumSamples], Ls[kSpectrumSamples], Lds[kSpectrumSamples];
   load_columns4(lambda[0].lambda, sizeof(SampledWavelengths), ls);
   load_columns4(lambda[0].pdf, sizeof(SampledWavelengths), pdfs);
-  load_columns4(out[0].L.v, sizeof(PathOutput), Ls);
-  load_columns4(out[0].L_direct_first.v, sizeof(PathOutput), Lds);
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    __builtin_memcpy(&Ls[i], cols.L[i] + col0, sizeof(F32x8));
+    __builtin_memcpy(&Lds[i], cols.L_direct[i] + col0, sizeof(F32x8));
+  }
   for (int i = 0; i < kSpectrumSamples; ++i) {
     const F32x8 l = ls[i], pdf = pdfs[i], L = Ls[i], Ld = Lds[i];
     const I32x8 has_pdf = pdf != 0;
@@ -238,9 +258,11 @@ inline void sample_rgb_lanes(const SceneView& sv, Float clamp, const PathOutput*
   for (int k = 0; k < kSampleLanes; ++k) rgb[k] = Vec3{r.x[k], r.y[k], r.z[k]} + out[k].rgb_exact;
 #else
   for (int k = 0; k < n; ++k) {
+    SampledSpectrum L, L_direct;
+    for (int i = 0; i < kSpectrumSamples; ++i) L[i] = cols.L[i][col0 + k], L_direct[i] = cols.L_direct[i][col0 + k];
     const SampledXYZWeights to_xyz(lambda[k]);
-    const Vec3 indirect_xyz = to_xyz(out[k].L);
-    rgb[k] = sv.to_rgb(to_xyz(out[k].L_direct_first)) + out[k].rgb_exact +
+    const Vec3 indirect_xyz = to_xyz(L);
+    rgb[k] = sv.to_rgb(to_xyz(L_direct)) + out[k].rgb_exact +
              clamp_luminance(sv.to_rgb(indirect_xyz), indirect_xyz.y, clamp);
   }
 #endif
