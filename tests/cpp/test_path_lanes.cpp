@@ -396,8 +396,10 @@ TEST(PathLanes, EnvironmentImageAcrossTheLanesMatchesTheScalarFunctions) {
   ASSERT_NE(t.conditional_func, nullptr);
   SampledWavelengths lambda[W];
   for (int k = 0; k < W; ++k) lambda[k] = SampledWavelengths::sample_visible((Float(k) + 0.3f) / W);
-  LaneSpectra spectra;
-  spectra.prepare(lambda, W, l.illuminant);
+  BatchColumns cols;
+  for (int k = 0; k < W; ++k) cols.set_wavelengths(k, lambda[k]);
+  LaneSpectra spectra;  // the illuminant across the lanes: checked in Le below
+  spectra.prepare(cols, l.illuminant);
   auto near = [](Float a, Float b) { return std::fabs(a - b) <= 2e-5f * (1 + std::fabs(b)); };
   int samples = 0, nudged_checked = 0;
   for (int round = 0; round < 64; ++round) {

@@ -169,9 +169,9 @@ TEST(SampleLanes, CameraStageGivesCameraSamplesRays) {
 }
 
 TEST(SampleLanes, CameraStageColumnsHoldTheRaysItWouldReturn) {
-  // For the path lanes the camera stage writes its rays as columns of the batch: the same
-  // rays, bit for bit, at the entries of the group, for the vector pinhole and the
-  // ray-by-ray cameras; the other entries untouched.
+  // For the path lanes the camera stage writes its rays and wavelengths as columns of the
+  // batch: the same values, bit for bit, at the entries of the group, for the vector
+  // pinhole and the ray-by-ray cameras; the other entries untouched.
   const WavelengthDistribution& wl = color_space(ColorSpaceId::LinearSRGB).wavelengths;
   Camera cam;
   cam.width = 64;
@@ -209,6 +209,11 @@ TEST(SampleLanes, CameraStageColumnsHoldTheRaysItWouldReturn) {
           }
           EXPECT_EQ(r.tmax, rays[k].tmax);
           EXPECT_EQ(untouched[k].o.x, 0);  // `rays` is left alone
+          for (int i = 0; i < kSpectrumSamples; ++i) {
+            EXPECT_SAME_FLOAT(cols.lambda[i][col0 + k], lambda_a[k].lambda[i]);
+            EXPECT_SAME_FLOAT(lambda_b[k].lambda[i], lambda_a[k].lambda[i]);
+            EXPECT_SAME_FLOAT(lambda_b[k].pdf[i], lambda_a[k].pdf[i]);
+          }
         }
         for (int k = 0; k < kBatchColumns; ++k)
           if (k < col0 || k >= col0 + 8) EXPECT_EQ(cols.ray(k).o.x, -7) << "entry " << k << " outside the group";

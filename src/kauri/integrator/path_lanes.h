@@ -529,26 +529,13 @@ namespace path_lanes_detail {
 /// scene's triangle lights share (LaneTriangles::common_emission_light); a path that meets
 /// another colour evaluates that one on its own, as before. Cornell box (callgrind): the
 /// per-path evaluations were 1.7% of the render's instructions.
-inline void prefill_emission(const Light& l, const SampledWavelengths* lambda, int n, Paths* P) {
+inline void prefill_emission(const Light& l, const BatchColumns& cols, int n, Paths* P) {
   const SigmoidPolynomial& poly = l.Le.rgb.poly;
-  const DenselySampled& I = l.Le.rgb.illuminant;
-  alignas(kLaneBytes) float lam[kSpectrumSamples][W];
-  for (int k = 0; k < W; ++k)
-    for (int i = 0; i < kSpectrumSamples; ++i) lam[i][k] = lambda[k < n ? k : 0].lambda[i];
   alignas(kLaneBytes) float Le[kSpectrumSamples][W];
   for (int i = 0; i < kSpectrumSamples; ++i) {
-    const LF x_lam = load(lam[i]);
+    const LF x_lam = load(cols.lambda[i]);
     const LF sig = sigmoid_lanes((poly.c0 * x_lam + poly.c1) * x_lam + poly.c2);  // Horner form, as the scalar
-    // DenselySampled::operator() (0 outside the table; the last knot ends the last interval).
-    const LF t = (x_lam - I.lambda_min) / I.step;
-    const LI inside = (t >= 0) & (t <= Float(I.count - 1));
-    const LF tc = inside ? t : LF{};
-    LI j = __builtin_convertvector(tc, LI);
-    j = j < I.count - 2 ? j : LI{} + (I.count - 2);
-    const LF a = gather(I.values, j), b = gather(I.values + 1, j);
-    const LF f = tc - __builtin_convertvector(j, LF);
-    const LF ill = inside ? (1 - f) * a + f * b : LF{};
-    store(sig * l.Le.rgb.scale * ill, Le[i]);
+    store(sig * l.Le.rgb.scale * dense_lanes(l.Le.rgb.illuminant, x_lam), Le[i]);
   }
   for (int k = 0; k < n; ++k) {
     EmissionCache& c = P->emission[k];
@@ -655,8 +642,8 @@ __attribute__((noinline)) inline bool bsdf_vertex(const SceneView& s, const Inte
 }
 }  // namespace path_lanes_detail
 
-/// trace_path() for the n ≤ kPathLanes paths of a group, in vector lanes: camera rays in
-/// `cols` (entries 0 … n − 1), wavelengths, samplers (left at the dimension trace_path
+/// trace_path() for the n ≤ kPathLanes paths of a group, in vector lanes: camera rays and
+/// wavelengths in `cols` (entries 0 … n − 1; the wavelengths also in `lambda`), samplers (left at the dimension trace_path
 /// leaves each) and outputs as trace_path's, except the radiance sums, which go to cols.L
 /// and cols.L_direct (entries ≥ n to ignore; `outs`' own L and L_direct_first hold only
 /// what handed-over paths gathered in trace_path). The lanes find the camera rays' hits themselves, as one packet of their
@@ -685,7 +672,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
   P.prev_p.store(V3{}), P.prev_n.store(V3{});
   for (int i = 0; i < kSpectrumSamples; ++i)
     store(splat(1), P.beta.v[i]), store(LF{}, P.L.v[i]), store(LF{}, P.L_direct.v[i]);
-  if (tris.common_emission_light >= 0) prefill_emission(s.lights[tris.common_emission_light], lambda, n, &P);
+  if (tris.common_emission_light >= 0) prefill_emission(s.lights[tris.common_emission_light], cols, n, &P);
   static_assert(W <= kBatchColumns, "a group's camera rays are columns of the batch");
   V3 o{load(cols.o[0]), load(cols.o[1]), load(cols.o[2])}, d{load(cols.d[0]), load(cols.d[1]), load(cols.d[2])};
   const LF camera_tmax = load(cols.tmax);
@@ -761,7 +748,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
                 ContributionKind::Emission);
         }
         if (image && any(bounced)) {
-          if (!spectra.ready) spectra.prepare(lambda, n, l.illuminant);
+          if (!spectra.ready) spectra.prepare(cols, l.illuminant);
           add_env_escaped(s, l, li, tris.env[li], d, spectra, bounced, P);
         }
       }
@@ -1008,7 +995,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
 
     // Next-event estimation (sample_direct): a point on the chosen triangle, or the
     // direction an infinite light's sample took.
-    if (any(load(V.env))) sample_env_lights(s, tris, lambda, n, spectra, V);
+    if (any(load(V.env))) sample_env_lights(s, tris, cols, spectra, V);
     const LI nee = load(V.nee), bsdf_nee = load(G.nee) & bsdf_lanes;
     if (any(nee | bsdf_nee)) {
       const LI dir = nee & load(V.light_dir);

@@ -135,13 +135,8 @@ inline LF dense_lanes(const DenselySampled& d, LF lambda) {
 struct LaneSpectra {
   bool ready = false;
   LF lambda[kSpectrumSamples] = {}, illuminant[kSpectrumSamples] = {};
-  void prepare(const SampledWavelengths* lambdas, int n, const DenselySampled& I) {
-    alignas(kLaneBytes) float lam[kSpectrumSamples][W];
-    for (int k = 0; k < W; ++k) {
-      const SampledWavelengths& w = lambdas[k < n ? k : 0];
-      for (int i = 0; i < kSpectrumSamples; ++i) lam[i][k] = w.lambda[i];
-    }
-    for (int i = 0; i < kSpectrumSamples; ++i) lambda[i] = load(lam[i]), illuminant[i] = dense_lanes(I, lambda[i]);
+  void prepare(const BatchColumns& cols, const DenselySampled& I) {
+    for (int i = 0; i < kSpectrumSamples; ++i) lambda[i] = load(cols.lambda[i]), illuminant[i] = dense_lanes(I, lambda[i]);
     ready = true;
   }
 };
@@ -245,7 +240,7 @@ inline void sample_env(const Light& l, const LaneEnvTables& t, LF ux, LF uy, LI 
 /// registers to scenes without an image too (the Cornell box: +2.7% instructions, 1.036x
 /// the time).
 __attribute__((noinline)) inline void sample_env_lights(const SceneView& s, const LaneTriangles& tris,
-                                                        const SampledWavelengths* lambda, int n, LaneSpectra& spectra,
+                                                        const BatchColumns& cols, LaneSpectra& spectra,
                                                         Vertices& V) {
   const LI which = load(V.light_index);
   const LF ux = load(V.u_light[0]), uy = load(V.u_light[1]);
@@ -253,7 +248,7 @@ __attribute__((noinline)) inline void sample_env_lights(const SceneView& s, cons
     const int li = which[__builtin_ctz(unsigned(mask_bits(todo)))];
     const LI m = todo & (which == li);
     const Light& l = s.lights[li];
-    if (!spectra.ready) spectra.prepare(lambda, n, l.illuminant);
+    if (!spectra.ready) spectra.prepare(cols, l.illuminant);
     V3 wi;
     LF pdf, Le[kSpectrumSamples];
     sample_env(l, tris.env[li], ux, uy, m, spectra, &wi, &pdf, Le);

@@ -419,8 +419,10 @@ void render_pixel_samples(const TileContext& c, const Accel& accel, int x, int y
       } else {
         camera_group(c, x, y, t0 + uint32_t(g), n, c.cfg.seed, samplers + g, camera_rays + g, film_pos + g,
                      lambdas + g);
-        if (lanes_find_hits)
-          for (int k = 0; k < n; ++k) cols.set_ray(g + k, camera_rays[g + k]);
+        for (int k = 0; lanes_find_hits && k < n; ++k) {
+          cols.set_ray(g + k, camera_rays[g + k]);
+          cols.set_wavelengths(g + k, lambdas[g + k]);
+        }
       }
       if (!lanes_find_hits) intersect_camera_rays(accel, camera_rays + g, n, primary + g, primary_found + g);
     }

@@ -161,7 +161,7 @@ inline Vec3x8 cie_xyz_bar(F32x8 lambda) {
 /// `filter` around its centre). Every array holds kSampleLanes entries, initialised;
 /// entries n … kSampleLanes − 1 of `rays` and `lambda` are overwritten with values to ignore.
 /// With `cols` the rays go to its entries col0 … col0 + kSampleLanes − 1 instead of `rays`
-/// (col0 + kSampleLanes ≤ kBatchColumns), for the path lanes.
+/// (col0 + kSampleLanes ≤ kBatchColumns), for the path lanes, and the wavelengths there too.
 inline void camera_rays_lanes(const Camera& cam, const WavelengthDistribution& wl, bool splat, const PixelFilter& filter,
                               int x, int y, Sampler* s, int n, Ray* rays, Vec2* film_pos, SampledWavelengths* lambda,
                               BatchColumns* cols = nullptr, int col0 = 0) {
@@ -185,6 +185,8 @@ inline void camera_rays_lanes(const Camera& cam, const WavelengthDistribution& w
   }
   store_columns4(l, lambda[0].lambda, sizeof(SampledWavelengths));
   store_columns4(pdf, lambda[0].pdf, sizeof(SampledWavelengths));
+  if (cols)
+    for (int i = 0; i < kSpectrumSamples; ++i) __builtin_memcpy(cols->lambda[i] + col0, &l[i], sizeof(F32x8));
   if (cam.type == CameraType::Perspective && !(cam.lens_radius > 0)) {
     F32x8 fx{}, fy{};
     for (int k = 0; k < kSampleLanes; ++k) fx[k] = film_pos[k].x, fy[k] = film_pos[k].y;
@@ -211,7 +213,10 @@ inline void camera_rays_lanes(const Camera& cam, const WavelengthDistribution& w
     return;
   }
 #else
-  for (int k = 0; k < n; ++k) lambda[k] = sample_wavelengths(wl, s[k].batch[2]);
+  for (int k = 0; k < n; ++k) {
+    lambda[k] = sample_wavelengths(wl, s[k].batch[2]);
+    if (cols) cols->set_wavelengths(col0 + k, lambda[k]);
+  }
 #endif
   for (int k = 0; k < n; ++k) {
     const Ray r = cam.generate_ray(film_pos[k], Vec2{s[k].batch[1], s[k].batch[kSobolBatch + 1]});
