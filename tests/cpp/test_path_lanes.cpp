@@ -443,6 +443,16 @@ TEST(PathLanes, EnvironmentImageAcrossTheLanesMatchesTheScalarFunctions) {
       P.L.set(k, SampledSpectrum(0)), P.L_direct.set(k, SampledSpectrum(0));
     }
     add_env_escaped(v, l, li, t, dir.load(), spectra, ~LI{}, P);
+    // The colour camera rays see along the same directions (add_seen_directly), into the
+    // outputs of the lanes in the mask only.
+    PathOutput outs[W];
+    const LI seen = (lane_index() & 1) == (round & 1);
+    add_env_seen_directly(l, dir.load(), seen, outs);
+    for (int k = 0; k < W; ++k) {
+      Vec3 ref{0, 0, 0};
+      if (seen[k]) ASSERT_TRUE(path_detail::add_seen_directly(l, dir.get(k), &ref));
+      for (int c = 0; c < 3; ++c) EXPECT_TRUE(near(outs[k].rgb_exact[c], ref[c])) << outs[k].rgb_exact[c] << " vs " << ref[c];
+    }
     for (int k = 0; k < W; ++k) {
       Float pdf = 0;
       const SampledSpectrum Le = infinite_light_Le_pdf(l, dir.get(k), lambda[k], kNextEventDensity, &pdf);

@@ -742,7 +742,8 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         const int li = s.infinite_lights[i];
         const Light& l = s.lights[li];
         const bool image = l.type == LightType::EnvMap;
-        for (int bits = mask_bits(image ? escaped & ~bounced : escaped); bits;) {
+        if (image && any(escaped & ~bounced)) add_env_seen_directly(l, d, escaped & ~bounced, outs);
+        for (int bits = mask_bits(image ? LI{} : escaped); bits;) {
           const int k = next_lane(&bits);
           P.add(k, path_detail::escaped_radiance_of(s, cfg, P.state(k), li, lane(d, k), lambda[k], &outs[k].rgb_exact),
                 ContributionKind::Emission);
