@@ -46,7 +46,8 @@ MeshDesc quad(const std::string& name, std::initializer_list<float> p, int mater
 /// (two-lobe) wall, whose BSDFs the lanes build and sample lane by lane (kLaneBsdf), a rough
 /// gold sphere and a brushed copper patch (kLaneConductor, across the lanes), a frosted and
 /// a clouded (compensated) glass ball (kLaneDielectric), a smooth glass pane and a mirror
-/// (kLaneSpecular), and a wall whose lobe weight reads a vertex attribute, where the path goes on
+/// (kLaneSpecular), a small ball of uncompensated gold (kLaneConductor, its η and κ across
+/// the lanes), and a wall whose lobe weight reads a vertex attribute, where the path goes on
 /// one at a time from the hit (kHandOver).
 void add_other_materials(Scene& s) {
   MaterialDesc gold = lambert("gold", {1, 1, 1});
@@ -129,6 +130,19 @@ void add_other_materials(Scene& s) {
   mirror.lobes[0].roughness = 0;
   s.add_mesh(0, quad("mirror", {0.1f, 0.6f, -0.98f, 0.8f, 0.6f, -0.98f, 0.8f, 1.5f, -0.98f, 0.1f, 1.5f, -0.98f},
                      s.add_material(mirror)));
+  // Measured gold without the multiple-scattering term (ggx_conductor@1, as the glossy
+  // bench scene's): its η and κ taken across the lanes (conductor_columns).
+  MaterialDesc plain_gold = lambert("plain_gold", {1, 1, 1});
+  plain_gold.lobes[0].type = LobeType::GGXConductor;
+  plain_gold.lobes[0].metal = "Au";
+  plain_gold.lobes[0].roughness = 0.15f;
+  plain_gold.lobes[0].compensate = false;
+  SphereDesc e = a;
+  e.name = "plain_gold_ball";
+  e.center = {0.65f, 1.65f, 0.35f};
+  e.radius = 0.15f;
+  e.material = s.add_material(plain_gold);
+  s.add_sphere(0, e);
   MaterialDesc worn = lambert("worn", {0.3f, 0.6f, 0.9f});
   worn.lobes[0].weight.attribute = "wear";
   MeshDesc patch = quad("worn_patch", {0.99f, 0.3f, -0.5f, 0.99f, 0.3f, 0.5f, 0.99f, 1.2f, 0.5f, 0.99f, 1.2f, -0.5f},
@@ -304,11 +318,11 @@ TEST(PathLanes, WhereEachMaterialsVerticesRun) {
   add_other_materials(s);
   const LaneTrianglesStore t = build_lane_triangles(s.compile(8, 8)->view(), {});
   // white, red, green, dark (w_b = 0); gold, glass (dispersive, compensated), pane, sheen
-  // over Lambert, brushed copper, frosted and clouded glass, a mirror; the worn wall.
+  // over Lambert, brushed copper, frosted and clouded glass, a mirror, plain gold; the worn wall.
   const std::vector<uint8_t> expected = {kLaneLambert,   kLaneLambert,    kLaneLambert,    kLaneLambert,
                                          kLaneConductor, kLaneBsdf,       kLaneSpecular,   kLaneBsdf,
                                          kLaneConductor, kLaneDielectric, kLaneDielectric, kLaneSpecular,
-                                         kHandOver};
+                                         kLaneConductor, kHandOver};
   EXPECT_EQ(t.lane_material, expected);
 }
 

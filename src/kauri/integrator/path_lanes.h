@@ -848,6 +848,9 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     };
     // The lanes whose light the tree chooses after this loop, and their samples for it.
     int tree_lanes[W], n_tree_lanes = 0;
+    // The conductor lobe whose columns each lane takes across the lanes after it (−1: none).
+    alignas(kLaneBytes) int32_t conductor_lobe[W];
+    store(~LI{}, conductor_lobe);
     Vec2 tree_u[W];
     for (int bits = mask_bits(alive); bits;) {
       const int k = next_lane(&bits);
@@ -919,11 +922,17 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       const bool aov = cfg.albedo_aov && !out.albedo_set &&
                        ((w_b > 0 && !specular) || P.depth[k] + 1 >= cfg.max_depth);
       SampledSpectrum a(0);
-      if (w_b > 0 && (aov || scatters))
-        a = conductor    ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &C)
-            : dielectric ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &Dv)
-            : specular   ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &S)
-                         : albedo();
+      if (w_b > 0 && (aov || scatters)) {
+        if (conductor && !aov && conductor_columns_apply(lobe)) {  // its columns across the lanes below
+          conductor_lobe[k] = mat.first_lobe;
+          C.w_b[k] = w_b;
+        } else {
+          a = conductor    ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &C)
+              : dielectric ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &Dv)
+              : specular   ? lobe_lane(s, lobe, w_b, V, k, lambda[k], aov, &S)
+                           : albedo();
+        }
+      }
       if (aov) {
         out.albedo = a;
         out.albedo_set = true;
@@ -967,6 +976,12 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         const int k = tree_lanes[j];
         nee_light(k, path_detail::LightChoice{chosen[j], pmf[j], Vec2{u_remapped[j], tree_u[k].y}});
       }
+    }
+    for (LI todo = load(conductor_lobe) >= 0; any(todo);) {  // one lobe at a time: the first left's
+      const int li = conductor_lobe[__builtin_ctz(unsigned(mask_bits(todo)))];
+      const LI m = todo & (load(conductor_lobe) == li);
+      conductor_columns(s.lobes[li], cols, m, &C);
+      todo &= ~m;
     }
     const LI scatter = load(V.scatter), bsdf_lanes = load(G.active);
     if (!any(scatter | bsdf_lanes)) break;  // every path ended at this bounce

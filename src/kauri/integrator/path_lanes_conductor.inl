@@ -26,6 +26,39 @@ struct ConductorVertices {
   }
 };
 
+/// Whether the vertices of conductor lobe `lobe` take their columns across the lanes
+/// (conductor_columns) instead of lane by lane (lobe_lane: the lobe instantiated, then
+/// ConductorVertices::set): η and κ densely sampled (the measured metals), no texture, no
+/// Kulla–Conty term (whose F_ms is computed per lane).
+inline bool conductor_columns_apply(const LobeParams& lobe) {
+  if (lobe.type != LobeType::GGXConductor || lobe.a_texture >= 0 || lobe.artist) return false;
+  if (lobe.a.type != SpectrumType::DenselySampled || lobe.b.type != SpectrumType::DenselySampled) return false;
+  GGXConductorLobe c;
+  c.mf = {lobe.alpha_x, lobe.alpha_y, lobe.microfacet};
+  c.compensate = lobe.compensate;
+  return !c.compensated();
+}
+/// ConductorVertices::set for the lanes in `m`, all at vertices of `lobe`
+/// (conductor_columns_apply; their w_b set already): η(λ) and κ(λ) at the lanes'
+/// wavelengths across the lanes (dense_lanes: the scalar lookup's steps) and the lobe's
+/// roughness. Lane by lane this was 2–3% of the glossy scene's render (its two gold spheres).
+inline void conductor_columns(const LobeParams& lobe, const BatchColumns& cols, LI m, ConductorVertices* C) {
+  GGXConductorLobe c;
+  c.mf = {lobe.alpha_x, lobe.alpha_y, lobe.microfacet};
+  auto put = [&](float* column, LF v) { store(m ? v : load(column), column); };
+  for (int i = 0; i < kSpectrumSamples; ++i) {
+    const LF lambda = load(cols.lambda[i]);
+    put(C->eta.v[i], dense_lanes(lobe.a.dense, lambda));
+    put(C->k.v[i], dense_lanes(lobe.b.dense, lambda));
+    put(C->F_ms.v[i], LF{});
+  }
+  put(C->alpha_x, splat(c.mf.alpha_x));
+  put(C->alpha_y, splat(c.mf.alpha_y));
+  put(C->r, splat(c.table_roughness()));
+  put(C->E_avg, LF{});
+  store(m ? LI{} : load(C->compensated), C->compensated);
+}
+
 /// 1 / √x as kauri::rsqrt: the estimate and one Newton step, 1 / √x outside the normal range.
 inline LF rsqrt_newton(LF x) {
 #if KAURI_LANES_AVX512  // AVX2's 12-bit estimate per half, as the scalar rsqrt (rsqrt14 differs)
