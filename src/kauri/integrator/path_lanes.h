@@ -743,9 +743,15 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         const Light& l = s.lights[li];
         const bool image = l.type == LightType::EnvMap;
         if (image && any(escaped & ~bounced)) add_env_seen_directly(l, d, escaped & ~bounced, outs);
+        const LF* Le_constant = l.type == LightType::EnvConstant && any(bounced)
+                                    ? spectra.constant_environment(l, li, cols) : nullptr;
         for (int bits = mask_bits(image ? LI{} : escaped); bits;) {
           const int k = next_lane(&bits);
-          P.add(k, path_detail::escaped_radiance_of(s, cfg, P.state(k), li, lane(d, k), lambda[k], &outs[k].rgb_exact),
+          const PathState st = P.state(k);
+          P.add(k,
+                Le_constant ? path_detail::escaped_constant_radiance(s, cfg, st, li, lane(d, k),
+                                                                     lane_spectrum(Le_constant, k), &outs[k].rgb_exact)
+                            : path_detail::escaped_radiance_of(s, cfg, st, li, lane(d, k), lambda[k], &outs[k].rgb_exact),
                 ContributionKind::Emission);
         }
         if (image && any(bounced)) {
@@ -836,6 +842,15 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         V.light_delta[k] = 0;
         V.u_light[0][k] = lc.u.x, V.u_light[1][k] = lc.u.y;
         V.light_index[k] = lc.light;
+      } else if (const LF* Le_c = l.type == LightType::EnvConstant && has_light_density(l, kNextEventDensity)
+                                      ? spectra.constant_environment(l, lc.light, cols) : nullptr) {
+        // sample_light of a constant environment, its radiance from the group's columns
+        V.light_dir[k] = -1;
+        V.light_delta[k] = 0;
+        V.light_index[k] = 0;
+        V.light_wi.set(k, sample_uniform_sphere(lc.u));
+        V.light_pdf[k] = uniform_sphere_pdf();
+        V.Le.set(k, lane_spectrum(Le_c, k));
       } else {  // another infinite light (path_lanes_supported): a direction, sampled here
         const LightSample ls = sample_light(l, V.p.get(k), lc.u, lambda[k], kNextEventDensity, &P.emission[k]);
         V.light_dir[k] = -1;

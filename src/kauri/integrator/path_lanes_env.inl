@@ -139,7 +139,33 @@ struct LaneSpectra {
     for (int i = 0; i < kSpectrumSamples; ++i) lambda[i] = load(cols.lambda[i]), illuminant[i] = dense_lanes(I, lambda[i]);
     ready = true;
   }
+  /// The radiance of constant environment `l` (light `li`) at the lanes' wavelengths, as
+  /// columns: Spectrum::sample of its RGB illuminant spectrum (sigmoid · scale · illuminant)
+  /// across the lanes, once per group; null for another kind of spectrum (taken lane by
+  /// lane). Lane by lane, the glossy scene's next-event samples of its sky and its paths
+  /// escaping into it evaluated it ~4% of its render.
+  const LF* constant_environment(const Light& l, int li, const BatchColumns& cols) {
+    if (l.Le.type != SpectrumType::RGBIlluminant) return nullptr;
+    if (constant_light != li) {
+      const SigmoidPolynomial& poly = l.Le.rgb.poly;
+      for (int i = 0; i < kSpectrumSamples; ++i) {
+        const LF lam = load(cols.lambda[i]);
+        constant_Le[i] = sigmoid_lanes((poly.c0 * lam + poly.c1) * lam + poly.c2) * l.Le.rgb.scale *
+                         dense_lanes(l.Le.rgb.illuminant, lam);
+      }
+      constant_light = li;
+    }
+    return constant_Le;
+  }
+  int constant_light = -1;
+  LF constant_Le[kSpectrumSamples] = {};
 };
+/// Lane k of a spectrum held as columns.
+inline SampledSpectrum lane_spectrum(const LF* v, int k) {
+  SampledSpectrum s;
+  for (int i = 0; i < kSpectrumSamples; ++i) s[i] = v[i][k];
+  return s;
+}
 
 /// env_bilinear over lanes: the four texels lat-long (u, v) blends and their weights.
 inline void env_bilinear_lanes(const Light& l, LF u, LF v, LI texel[4], LF weight[4]) {

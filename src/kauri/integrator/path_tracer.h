@@ -146,6 +146,18 @@ KAURI_HOST_DEVICE inline SampledSpectrum escaped_radiance_of(const SceneView& s,
   if (Le.is_black()) return Le;
   return st.beta * Le * emitter_mis_weight_given_pdf(s, cfg, st, li, pdf_light);
 }
+/// escaped_radiance_of for a constant environment `li`, its radiance at the path's
+/// wavelengths given (`Le`, infinite_light_Le's in every direction): the path lanes evaluate
+/// it once for all their paths. The same steps otherwise.
+KAURI_HOST_DEVICE inline SampledSpectrum escaped_constant_radiance(const SceneView& s, const IntegratorSettings& cfg,
+                                                                  const PathState& st, int li, Vec3 d,
+                                                                  const SampledSpectrum& Le, Vec3* rgb_exact) {
+  if (st.depth == 0 && add_seen_directly(s.lights[li], d, rgb_exact)) return SampledSpectrum(0);
+  const Float pdf_light =
+      emission_needs_mis(st) ? light_pdf(s.lights[li], Point3{}, d, Point3{}, Normal3{}, kNextEventDensity) : 0;
+  if (Le.is_black()) return Le;
+  return st.beta * Le * emitter_mis_weight_given_pdf(s, cfg, st, li, pdf_light);
+}
 /// escaped_radiance_of summed over the infinite lights. Shared by trace_path and the path
 /// lanes (lane by lane, for the lights they do not take across the lanes).
 KAURI_HOST_DEVICE inline SampledSpectrum escaped_radiance(const SceneView& s, const IntegratorSettings& cfg,
