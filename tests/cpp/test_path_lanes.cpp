@@ -100,29 +100,27 @@ void add_other_materials(Scene& s) {
   floor_patch.normals = {0.2f, 1, 0.1f, -0.1f, 1, 0.2f, 0.1f, 1, -0.2f, -0.2f, 1, 0};
   floor_patch.uvs = {0, 0, 1, 0, 1, 1, 0, 1};
   s.add_mesh(0, floor_patch);
+  auto add_ball = [&](const char* name, Vec3 center, float radius, const MaterialDesc& m) {
+    SphereDesc b;
+    b.name = name;
+    b.center = center;
+    b.radius = radius;
+    b.material = s.add_material(m);
+    s.add_sphere(0, b);
+  };
   // Frosted glass without dispersion or compensation (ggx_dielectric@1), anisotropic.
   MaterialDesc frosted = lambert("frosted", {1, 1, 1});
   frosted.lobes[0].type = LobeType::RoughDielectric;
   frosted.lobes[0].roughness = 0.35f;
   frosted.lobes[0].anisotropy = 0.3f;
   frosted.lobes[0].compensate = false;
-  SphereDesc c = a;
-  c.name = "frosted_ball";
-  c.center = {0.05f, 0.25f, 0.55f};
-  c.radius = 0.22f;
-  c.material = s.add_material(frosted);
-  s.add_sphere(0, c);
+  add_ball("frosted_ball", {0.05f, 0.25f, 0.55f}, 0.22f, frosted);
   // Clouded glass (ggx_dielectric@2: its multiple-scattering terms), without dispersion.
   MaterialDesc clouded = lambert("clouded", {1, 1, 1});
   clouded.lobes[0].type = LobeType::RoughDielectric;
   clouded.lobes[0].roughness = 0.6f;
   clouded.lobes[0].ior = 1.8f;
-  SphereDesc d = a;
-  d.name = "clouded_ball";
-  d.center = {-0.55f, 1.25f, -0.5f};
-  d.radius = 0.25f;
-  d.material = s.add_material(clouded);
-  s.add_sphere(0, d);
+  add_ball("clouded_ball", {-0.55f, 1.25f, -0.5f}, 0.25f, clouded);
   // A silver mirror on the back wall (α = 0: a specular bounce).
   MaterialDesc mirror = lambert("mirror", {1, 1, 1});
   mirror.lobes[0].type = LobeType::GGXConductor;
@@ -137,12 +135,7 @@ void add_other_materials(Scene& s) {
   plain_gold.lobes[0].metal = "Au";
   plain_gold.lobes[0].roughness = 0.15f;
   plain_gold.lobes[0].compensate = false;
-  SphereDesc e = a;
-  e.name = "plain_gold_ball";
-  e.center = {0.65f, 1.65f, 0.35f};
-  e.radius = 0.15f;
-  e.material = s.add_material(plain_gold);
-  s.add_sphere(0, e);
+  add_ball("plain_gold_ball", {0.65f, 1.65f, 0.35f}, 0.15f, plain_gold);
   MaterialDesc worn = lambert("worn", {0.3f, 0.6f, 0.9f});
   worn.lobes[0].weight.attribute = "wear";
   MeshDesc patch = quad("worn_patch", {0.99f, 0.3f, -0.5f, 0.99f, 0.3f, 0.5f, 0.99f, 1.2f, 0.5f, 0.99f, 1.2f, -0.5f},

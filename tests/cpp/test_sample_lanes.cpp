@@ -106,14 +106,8 @@ TEST(SampleLanes, IndependentSamplerIsStartedOneByOne) {
   EXPECT_FALSE(start_pixel_samples_lanes(s, 8, 1, 2, 0, 7));
 }
 
-struct CameraCase {
-  CameraType type;
-  Float lens_radius;
-  bool splat;
-};
-
-TEST(SampleLanes, CameraStageGivesCameraSamplesRays) {
-  const WavelengthDistribution& wl = color_space(ColorSpaceId::LinearSRGB).wavelengths;
+/// A 64 × 48 perspective camera, rotated and moved off the origin (lens set by the tests).
+Camera test_camera() {
   Camera cam;
   cam.width = 64;
   cam.height = 48;
@@ -124,6 +118,18 @@ TEST(SampleLanes, CameraStageGivesCameraSamplesRays) {
   cam.focus_distance = 3;
   const Float m[3][4] = {{0.8f, 0.0f, 0.6f, 1.5f}, {0.1f, 0.98f, -0.2f, 2.0f}, {-0.6f, 0.1f, 0.8f, -3.0f}};
   std::memcpy(cam.camera_to_world.m, m, sizeof m);
+  return cam;
+}
+
+struct CameraCase {
+  CameraType type;
+  Float lens_radius;
+  bool splat;
+};
+
+TEST(SampleLanes, CameraStageGivesCameraSamplesRays) {
+  const WavelengthDistribution& wl = color_space(ColorSpaceId::LinearSRGB).wavelengths;
+  Camera cam = test_camera();
   PixelFilter filter;
   for (CameraCase cc : {CameraCase{CameraType::Perspective, 0, true}, CameraCase{CameraType::Perspective, 0, false},
                         CameraCase{CameraType::Perspective, 0.1f, true}, CameraCase{CameraType::Orthographic, 0, true}}) {
@@ -173,16 +179,7 @@ TEST(SampleLanes, CameraStageColumnsHoldTheRaysItWouldReturn) {
   // batch: the same values, bit for bit, at the entries of the group, for the vector
   // pinhole and the ray-by-ray cameras; the other entries untouched.
   const WavelengthDistribution& wl = color_space(ColorSpaceId::LinearSRGB).wavelengths;
-  Camera cam;
-  cam.width = 64;
-  cam.height = 48;
-  cam.tan_half_x = 0.4f;
-  cam.tan_half_y = 0.3f;
-  cam.half_w = 2;
-  cam.half_h = 1.5f;
-  cam.focus_distance = 3;
-  const Float m[3][4] = {{0.8f, 0.0f, 0.6f, 1.5f}, {0.1f, 0.98f, -0.2f, 2.0f}, {-0.6f, 0.1f, 0.8f, -3.0f}};
-  std::memcpy(cam.camera_to_world.m, m, sizeof m);
+  Camera cam = test_camera();
   for (Float lens : {Float(0), Float(0.1f)}) {
     cam.lens_radius = lens;
     for (int col0 : {0, 8}) {

@@ -16,9 +16,11 @@
 // spheres and disks that EmbreeAccel keeps out of Embree (its direct shapes). Lane by
 // lane, over the live lanes only: the light tree's choice, the sampler's values, the
 // albedo (a sigmoid or a texture lookup), emission found by a BSDF sample, the surface at
-// a sphere's or disk's hit, an infinite light's sample (its direction, density and
-// radiance by sample_light; its MIS weight and shadow ray across the lanes) and the
-// environment an escaped path sees.
+// a sphere's or disk's hit, an infinite light's sample (its direction and density by
+// sample_light; its MIS weight and shadow ray across the lanes) and what a path escaping
+// into a constant environment or a distant light receives. An environment image's samples
+// and lookups, a constant environment's radiance and a measured metal's η and κ are taken
+// across the lanes (path_lanes_env.inl, path_lanes_conductor.inl).
 //
 // Why the state must live in the lanes: a first version that kept the per-path structures
 // and handed Embree packets of them (rtcIntersect8 on copies, surface hits by
