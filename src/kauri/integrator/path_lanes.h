@@ -510,6 +510,15 @@ inline int next_lane(int* bits) {
   *bits &= *bits - 1;
   return k;
 }
+/// The lanes of `todo` (not empty) whose entry of `column` equals that of its lowest lane,
+/// taken out of `todo`, and that value (*value): a per-lane choice (a light, a lobe) handled
+/// one value at a time across the lanes.
+inline LI take_equal_lanes(const int32_t* column, LI* todo, int* value) {
+  *value = column[__builtin_ctz(unsigned(mask_bits(*todo)))];
+  const LI m = *todo & (load(column) == *value);
+  *todo &= ~m;
+  return m;
+}
 
 /// The normal on the side of the surface `d` points to (spawn_ray, spawn_ray_to).
 inline V3 side_normal(const V3& ng, const V3& d) { return select(dot(d, ng) < 0, -ng, ng); }
@@ -532,13 +541,8 @@ namespace path_lanes_detail {
 /// another colour evaluates that one on its own, as before. Cornell box (callgrind): the
 /// per-path evaluations were 1.7% of the render's instructions.
 inline void prefill_emission(const Light& l, const BatchColumns& cols, int n, Paths* P) {
-  const SigmoidPolynomial& poly = l.Le.rgb.poly;
   alignas(kLaneBytes) float Le[kSpectrumSamples][W];
-  for (int i = 0; i < kSpectrumSamples; ++i) {
-    const LF x_lam = load(cols.lambda[i]);
-    const LF sig = sigmoid_lanes((poly.c0 * x_lam + poly.c1) * x_lam + poly.c2);  // Horner form, as the scalar
-    store(sig * l.Le.rgb.scale * dense_lanes(l.Le.rgb.illuminant, x_lam), Le[i]);
-  }
+  for (int i = 0; i < kSpectrumSamples; ++i) store(rgb_illuminant_lanes(l.Le.rgb, load(cols.lambda[i])), Le[i]);
   for (int k = 0; k < n; ++k) {
     EmissionCache& c = P->emission[k];
     c.id = l.emission_id;
@@ -645,11 +649,12 @@ __attribute__((noinline)) inline bool bsdf_vertex(const SceneView& s, const Inte
 }  // namespace path_lanes_detail
 
 /// trace_path() for the n ≤ kPathLanes paths of a group, in vector lanes: camera rays and
-/// wavelengths in `cols` (entries 0 … n − 1; the wavelengths also in `lambda`), samplers (left at the dimension trace_path
-/// leaves each) and outputs as trace_path's, except the radiance sums, which go to cols.L
-/// and cols.L_direct (entries ≥ n to ignore; `outs`' own L and L_direct_first hold only
-/// what handed-over paths gathered in trace_path). The lanes find the camera rays' hits themselves, as one packet of their
-/// width with Embree's coherent context; before, the render loop sent them to Embree 8 at a
+/// wavelengths in `cols` (entries 0 … n − 1; the wavelengths also in `lambda`), samplers
+/// (left at the dimension trace_path leaves each) and outputs as trace_path's, except the
+/// radiance sums, which go to cols.L and cols.L_direct (entries ≥ n to ignore; `outs`' own
+/// L and L_direct_first hold only what handed-over paths gathered in trace_path). The
+/// lanes find the camera rays' hits themselves, as one packet of their width with Embree's
+/// coherent context; before, the render loop sent them to Embree 8 at a
 /// time and converted the hits to HitRecords and back into the lanes (callgrind, 8 lanes:
 /// Cornell box −4.1%, environment −7.6% instructions). The scene must be
 /// path_lanes_supported(), `tris` its build_lane_triangles(), and `accel` without direct
@@ -750,10 +755,10 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         for (int bits = mask_bits(image ? LI{} : escaped); bits;) {
           const int k = next_lane(&bits);
           const PathState st = P.state(k);
+          const SampledSpectrum Le_k = Le_constant ? lane_spectrum(Le_constant, k) : SampledSpectrum(0);
           P.add(k,
-                Le_constant ? path_detail::escaped_constant_radiance(s, cfg, st, li, lane(d, k),
-                                                                     lane_spectrum(Le_constant, k), &outs[k].rgb_exact)
-                            : path_detail::escaped_radiance_of(s, cfg, st, li, lane(d, k), lambda[k], &outs[k].rgb_exact),
+                path_detail::escaped_radiance_of(s, cfg, st, li, lane(d, k), lambda[k], &outs[k].rgb_exact,
+                                                 Le_constant ? &Le_k : nullptr),
                 ContributionKind::Emission);
         }
         if (image && any(bounced)) {
@@ -994,11 +999,10 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         nee_light(k, path_detail::LightChoice{chosen[j], pmf[j], Vec2{u_remapped[j], tree_u[k].y}});
       }
     }
-    for (LI todo = load(conductor_lobe) >= 0; any(todo);) {  // one lobe at a time: the first left's
-      const int li = conductor_lobe[__builtin_ctz(unsigned(mask_bits(todo)))];
-      const LI m = todo & (load(conductor_lobe) == li);
+    for (LI todo = load(conductor_lobe) >= 0; any(todo);) {  // one lobe at a time
+      int li;
+      const LI m = take_equal_lanes(conductor_lobe, &todo, &li);
       conductor_columns(s.lobes[li], cols, m, &C);
-      todo &= ~m;
     }
     const LI scatter = load(V.scatter), bsdf_lanes = load(G.active);
     if (!any(scatter | bsdf_lanes)) break;  // every path ended at this bounce

@@ -128,6 +128,13 @@ inline LF dense_lanes(const DenselySampled& d, LF lambda) {
   return inside ? v : LF{};
 }
 
+/// Spectrum::sample of an RGB illuminant spectrum (an RGB light's or environment's
+/// emission) over lanes: sigmoid · scale · illuminant, the scalar expression's order.
+inline LF rgb_illuminant_lanes(const Spectrum::RGBData& rgb, LF lambda) {
+  const SigmoidPolynomial& p = rgb.poly;
+  return sigmoid_lanes((p.c0 * lambda + p.c1) * lambda + p.c2) * rgb.scale * dense_lanes(rgb.illuminant, lambda);
+}
+
 /// The path's wavelengths and the working space's illuminant at them, as columns (wavelength
 /// i of every lane in [i]): computed once per group, when a path first meets an environment
 /// image after a bounce. Lane by lane (sample_dense per lane) this was ~2% of the
@@ -135,6 +142,8 @@ inline LF dense_lanes(const DenselySampled& d, LF lambda) {
 struct LaneSpectra {
   bool ready = false;
   LF lambda[kSpectrumSamples] = {}, illuminant[kSpectrumSamples] = {};
+  int constant_light = -1;  // the constant environment whose radiance constant_Le holds
+  LF constant_Le[kSpectrumSamples] = {};
   void prepare(const BatchColumns& cols, const DenselySampled& I) {
     for (int i = 0; i < kSpectrumSamples; ++i) lambda[i] = load(cols.lambda[i]), illuminant[i] = dense_lanes(I, lambda[i]);
     ready = true;
@@ -147,18 +156,11 @@ struct LaneSpectra {
   const LF* constant_environment(const Light& l, int li, const BatchColumns& cols) {
     if (l.Le.type != SpectrumType::RGBIlluminant) return nullptr;
     if (constant_light != li) {
-      const SigmoidPolynomial& poly = l.Le.rgb.poly;
-      for (int i = 0; i < kSpectrumSamples; ++i) {
-        const LF lam = load(cols.lambda[i]);
-        constant_Le[i] = sigmoid_lanes((poly.c0 * lam + poly.c1) * lam + poly.c2) * l.Le.rgb.scale *
-                         dense_lanes(l.Le.rgb.illuminant, lam);
-      }
+      for (int i = 0; i < kSpectrumSamples; ++i) constant_Le[i] = rgb_illuminant_lanes(l.Le.rgb, load(cols.lambda[i]));
       constant_light = li;
     }
     return constant_Le;
   }
-  int constant_light = -1;
-  LF constant_Le[kSpectrumSamples] = {};
 };
 /// Lane k of a spectrum held as columns.
 inline SampledSpectrum lane_spectrum(const LF* v, int k) {
@@ -304,11 +306,10 @@ inline void sample_env(const Light& l, const LaneEnvTables& t, LF ux, LF uy, LI 
 __attribute__((noinline)) inline void sample_env_lights(const SceneView& s, const LaneTriangles& tris,
                                                         const BatchColumns& cols, LaneSpectra& spectra,
                                                         Vertices& V) {
-  const LI which = load(V.light_index);
   const LF ux = load(V.u_light[0]), uy = load(V.u_light[1]);
-  for (LI todo = load(V.env); any(todo);) {  // one image at a time: the first left's
-    const int li = which[__builtin_ctz(unsigned(mask_bits(todo)))];
-    const LI m = todo & (which == li);
+  for (LI todo = load(V.env); any(todo);) {  // one image at a time
+    int li;
+    const LI m = take_equal_lanes(V.light_index, &todo, &li);
     const Light& l = s.lights[li];
     if (!spectra.ready) spectra.prepare(cols, l.illuminant);
     V3 wi;
@@ -317,7 +318,6 @@ __attribute__((noinline)) inline void sample_env_lights(const SceneView& s, cons
     V.light_wi.store(select(m, wi, V.light_wi.load()));
     store(m ? pdf : load(V.light_pdf), V.light_pdf);
     for (int i = 0; i < kSpectrumSamples; ++i) store(m ? Le[i] : load(V.Le.v[i]), V.Le.v[i]);
-    todo &= ~m;
   }
 }
 
