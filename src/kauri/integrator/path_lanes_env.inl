@@ -151,10 +151,10 @@ inline LF rgb_illuminant_lanes(const Spectrum::RGBData& rgb, LF lambda) {
 /// image after a bounce. Lane by lane (sample_dense per lane) this was ~2% of the
 /// environment scene's render.
 struct LaneSpectra {
-  bool ready = false;
-  LF lambda[kSpectrumSamples] = {}, illuminant[kSpectrumSamples] = {};
+  bool ready = false;  // lambda and illuminant are set (not before: a group zeroes none of them)
+  LF lambda[kSpectrumSamples], illuminant[kSpectrumSamples];
   int constant_light = -1;  // the constant environment whose radiance constant_Le holds
-  LF constant_Le[kSpectrumSamples] = {};
+  LF constant_Le[kSpectrumSamples];
   void prepare(const BatchColumns& cols, const DenselySampled& I) {
     for (int i = 0; i < kSpectrumSamples; ++i) lambda[i] = load(cols.lambda[i]), illuminant[i] = dense_lanes(I, lambda[i]);
     ready = true;
