@@ -112,11 +112,11 @@ LaneTrianglesStore build_lane_triangles(const SceneView& s, const std::vector<ui
   bool reads_uv = false, any_n = false;
   for (int i = 0; i < g.n_shapes; ++i) {
     const ShapeView& shape = g.shapes[i];
-    LaneShapeRow row;  // spheres and disks (first −1): their hits lane by lane
+    LaneShapeRow row;  // spheres and disks (first −1): their hits lane by lane, or a sphere's across the lanes
     row.material = shape.material;
+    row.first_light = s.emitter_first_light[root.shape_slot_base + i];
     if (shape.type == ShapeType::Mesh) {
       row.first = int32_t(count);
-      row.first_light = s.emitter_first_light[root.shape_slot_base + i];
       row.has_n = shape.mesh.n ? -1 : 0;
       count += shape.mesh.n_triangles;
       reads_uv |= shape.material >= 0 && s.materials[shape.material].reads_uv;

@@ -92,7 +92,7 @@ struct alignas(32) LaneShapeRow {
   int32_t first = -1;        // its first triangle's number; −1: a sphere or disk
   int32_t quads = 0;         // −1: Embree has it as quads (EmbreeAccel::root_quads)
   int32_t material = -1;     // (spheres and disks too: the lanes hand over their paths by it)
-  int32_t first_light = -1;  // the light of its triangle `prim` is first_light + prim; −1: none
+  int32_t first_light = -1;  // the light of its triangle `prim` is first_light + prim (a sphere's or disk's: first_light); −1: none
   int32_t has_n = 0;         // −1: per-vertex shading normals
   int32_t unused[3] = {};
 };
@@ -510,6 +510,14 @@ inline int next_lane(int* bits) {
   *bits &= *bits - 1;
   return k;
 }
+/// The lanes set in `bits` as a mask.
+inline LI mask_of(int bits) {
+#if KAURI_LANES_AVX512
+  return LI(_mm512_movm_epi32(__mmask16(bits)));
+#else
+  return ((LI{} + bits) & ((LI{} + 1) << lane_index())) != 0;
+#endif
+}
 /// The lanes of `todo` (not empty) whose entry of `column` equals that of its lowest lane,
 /// taken out of `todo`, and that value (*value): a per-lane choice (a light, a lobe) handled
 /// one value at a time across the lanes.
@@ -720,6 +728,9 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     LI alive = load(P.alive);
     LI geom, prim;  // the bounce's closest hits (the camera rays' on the first pass)
     LF t, hu, hv;
+    V3 sphere_c{};     // where a lane's closest hit is a direct shape that is a sphere (−1 in
+    LF sphere_r{};     // direct_sphere), its centre and radius
+    LI direct_sphere{};
     {  // its rays' queries; what they leave behind stays in this scope
       put(rh.ray.org_x, o.x), put(rh.ray.org_y, o.y), put(rh.ray.org_z, o.z);
       put(rh.ray.dir_x, d.x), put(rh.ray.dir_y, d.y), put(rh.ray.dir_z, d.z);
@@ -732,6 +743,12 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         const LI h = alive & intersect_direct(direct_shapes[i], o, d, tmax, &ti);
         tmax = h ? ti : tmax;
         direct_geom = h ? LI{} + int32_t(direct_shapes[i].geom) : direct_geom;
+        const bool sphere = direct_shapes[i].type == ShapeType::Sphere;
+        direct_sphere = h ? LI{} - int32_t(sphere) : direct_sphere;
+        if (sphere) {
+          sphere_c = select(h, splat3(direct_shapes[i].sphere.center), sphere_c);
+          sphere_r = h ? splat(direct_shapes[i].sphere.radius) : sphere_r;
+        }
       }
       put(rh.ray.tfar, tmax);
       put(rh.hit.geomID, ~LI{}), put(rh.hit.instID[0], ~LI{});
@@ -742,6 +759,7 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
       t = load(rh.ray.tfar), hu = load(rh.hit.u), hv = load(rh.hit.v);
       if (n_direct) {  // Embree missed, a direct shape was met: its hit (EmbreeAccel::direct_hit)
         const LI take = alive & (geom == -1) & (direct_geom >= 0);
+        direct_sphere &= take;
         geom = take ? direct_geom : geom, prim = take ? LI{} : prim;
         t = take ? tmax : t, hu = take ? LF{} : hu, hv = take ? LF{} : hv;
       }
@@ -831,11 +849,18 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
     // and its last path at any surface (kLambertLanesMin).
     const int live = __builtin_popcount(unsigned(mask_bits(alive)));
     const LI analytic = alive & ~mesh;
-    if (any(analytic)) {  // compute_surface_hit lane by lane
+    if (any(analytic)) {  // compute_surface_hit lane by lane, but a sphere's across the lanes
+      int sphere_lanes = 0;
       for (int bits = mask_bits(analytic); bits;) {
         const int k = next_lane(&bits);
-        if (shape_material[k] >= 0 && handed_over(tris.lane_material[shape_material[k]], live)) {
-          material[k] = shape_material[k], light[k] = -1;  // handed over below, where trace_path finds its surface
+        const int m = shape_material[k];
+        if (m >= 0 && handed_over(tris.lane_material[m], live)) {
+          material[k] = m, light[k] = -1;  // handed over below, where trace_path finds its surface
+          continue;
+        }
+        if (direct_sphere[k] && !(m >= 0 && s.materials[m].reads_uv)) {  // sphere_hit without uv, below
+          material[k] = m, light[k] = shape_light[k];
+          sphere_lanes |= 1 << k;
           continue;
         }
         HitRecord h;
@@ -846,6 +871,15 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         material[k] = sh.material, light[k] = sh.light;
       }
       p = V.p.load(), ng = V.ng.load(), ns = V.ns.load(), dpdu = V.dpdu.load();
+      if (sphere_lanes) {  // sphere_hit's steps: the normal at o + t d, the point re-projected onto the sphere
+        const LI m = mask_of(sphere_lanes);
+        const V3 n = normalize((o + d * t) - sphere_c);
+        const LI flat = (n.y * n.y + n.x * n.x) == 0;  // ∂p/∂u = (−n.y, n.x, 0), or (1, 0, 0) where its length² is 0
+        p = select(m, sphere_c + n * sphere_r, p);
+        ng = select(m, n, ng), ns = select(m, n, ns);
+        dpdu = select(m, V3{flat ? splat(1) : -n.y, flat ? LF{} : n.x, LF{}}, dpdu);
+        V.p.store(p), V.ng.store(ng), V.ns.store(ns), V.dpdu.store(dpdu);
+      }
     }
 
     // Per lane: emission, the light choice, the BSDF's albedo, the sampler's values.
