@@ -790,13 +790,11 @@ void trace_paths_lanes(const SceneView& s, const LaneTriangles& tris, const Acce
         const LF* Le_constant = l.type == LightType::EnvConstant && any(bounced)
                                     ? spectra.constant_environment(l, li, cols) : nullptr;
         if (Le_constant) add_constant_escaped(s, cfg, l, li, Le_constant, bounced, P);
+        // The rest lane by lane: the camera rays (add_seen_directly), and the paths that
+        // escape into another kind of infinite light.
         for (int bits = mask_bits(image ? LI{} : Le_constant ? escaped & ~bounced : escaped); bits;) {
           const int k = next_lane(&bits);
-          const PathState st = P.state(k);
-          const SampledSpectrum Le_k = Le_constant ? lane_spectrum(Le_constant, k) : SampledSpectrum(0);
-          P.add(k,
-                path_detail::escaped_radiance_of(s, cfg, st, li, lane(d, k), lambda[k], &outs[k].rgb_exact,
-                                                 Le_constant ? &Le_k : nullptr),
+          P.add(k, path_detail::escaped_radiance_of(s, cfg, P.state(k), li, lane(d, k), lambda[k], &outs[k].rgb_exact),
                 ContributionKind::Emission);
         }
         if (image && any(bounced)) {

@@ -135,25 +135,14 @@ KAURI_HOST_DEVICE inline bool add_seen_directly(const Light& l, Vec3 d, Vec3* rg
 
 /// What a path of state `st` that escapes along `d` receives from infinite light `li`:
 /// β · Le · w, MIS-weighted against next-event estimation. A camera ray (depth 0) gives
-/// the lights add_seen_directly takes to *rgb_exact instead. `Le_known`: the light's
-/// radiance along `d` at `lambda` where the caller has it already (a constant
-/// environment's, the same in every direction, which the path lanes evaluate once for all
-/// their paths); never an environment image's.
+/// the lights add_seen_directly takes to *rgb_exact instead.
 KAURI_HOST_DEVICE inline SampledSpectrum escaped_radiance_of(const SceneView& s, const IntegratorSettings& cfg,
                                                             const PathState& st, int li, Vec3 d,
-                                                            const SampledWavelengths& lambda, Vec3* rgb_exact,
-                                                            const SampledSpectrum* Le_known = nullptr) {
-  const Light& l = s.lights[li];
-  if (st.depth == 0 && add_seen_directly(l, d, rgb_exact)) return SampledSpectrum(0);
+                                                            const SampledWavelengths& lambda, Vec3* rgb_exact) {
+  if (st.depth == 0 && add_seen_directly(s.lights[li], d, rgb_exact)) return SampledSpectrum(0);
   Float pdf_light = 0;
   Float* pdf = emission_needs_mis(st) ? &pdf_light : nullptr;
-  SampledSpectrum Le;
-  if (Le_known) {  // infinite_light_Le_pdf's steps for a light other than an image, Le aside
-    Le = *Le_known;
-    if (pdf) *pdf = light_pdf(l, Point3{}, d, Point3{}, Normal3{}, kNextEventDensity);
-  } else {
-    Le = infinite_light_Le_pdf(l, d, lambda, kNextEventDensity, pdf);
-  }
+  const SampledSpectrum Le = infinite_light_Le_pdf(s.lights[li], d, lambda, kNextEventDensity, pdf);
   if (Le.is_black()) return Le;
   return st.beta * Le * emitter_mis_weight_given_pdf(s, cfg, st, li, pdf_light);
 }
